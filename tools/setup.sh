@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Set-up for `make demo` and `make test` on a fresh Debian machine.
+# Installs the Debian packages the project needs (when root and apt are there),
+# builds .venv from the machine's python3 with pinned dependencies, and exposes
+# Debian's pyopenvdb module (only that module) inside the virtual environment.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PYTHON=${PYTHON:-python3}
+VENV=.venv
+DEB_PACKAGES=(python3-openvdb libegl1 libgl1-mesa-dri)
+
+missing=()
+for pkg in "${DEB_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+        echo "setup: installing Debian packages: ${missing[*]}"
+        apt-get update -qq >/dev/null
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+    else
+        echo "setup: cannot install ${missing[*]} (needs root and apt-get); continuing without openvdb"
+    fi
+fi
+
+if [ ! -x "$VENV/bin/python" ]; then
+    "$PYTHON" -m venv "$VENV"
+    "$VENV/bin/python" -m pip install -q --upgrade pip
+fi
+"$VENV/bin/python" -m pip install -q -c constraints.txt -e ".[test]"
+
+# Expose Debian's pyopenvdb module alone; all of dist-packages would shadow the venv's numpy.
+site=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+tag=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))')
+for dir in /usr/lib/python3/dist-packages /usr/lib/python3.*/dist-packages; do
+    if [ -f "$dir/pyopenvdb$tag" ]; then
+        ln -sf "$dir/pyopenvdb$tag" "$site/pyopenvdb$tag"
+        break
+    fi
+done
+"$VENV/bin/python" -c 'import pyopenvdb' 2>/dev/null || echo "setup: pyopenvdb is not importable; openvdb features are off"
+touch "$VENV/.installed"
