@@ -1,1 +1,29 @@
-"""implicit."""
+"""implicad's function representation: solids as CSG trees of signed distances.
+
+Examples
+--------
+>>> from implicit import sphere, box, cylinder
+>>> part = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0))
+>>> part.count_primitives()
+3
+"""
+
+from .solid import Solid, INFINITE_BOUNDS
+from .primitives import (
+    halfspace, sphere, box, rounded_box, cylinder, cone, frustum, torus,
+)
+from .csg import (
+    union, intersection, difference, complement,
+    smooth_union, smooth_intersection, smooth_difference,
+)
+from .transforms import translate, rotate, scale, mirror, affine, rotation_matrix
+from .modifiers import offset, shell
+
+__all__ = [
+    "Solid", "INFINITE_BOUNDS",
+    "halfspace", "sphere", "box", "rounded_box", "cylinder", "cone", "frustum", "torus",
+    "union", "intersection", "difference", "complement",
+    "smooth_union", "smooth_intersection", "smooth_difference",
+    "translate", "rotate", "scale", "mirror", "affine", "rotation_matrix",
+    "offset", "shell",
+]

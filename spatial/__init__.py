@@ -1,1 +1,1 @@
-"""spatial."""
+"""implicad's spatial side: cells, grids, meshes, analysis, files and the command line."""

@@ -1,0 +1,70 @@
+"""Modifiers: grow or shrink a solid, hollow it into a shell."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .solid import Solid, as_finite, as_positive, register_operator
+
+__all__ = ["Offset", "Shell", "offset", "shell"]
+
+
+class Offset(Solid):
+    """The child grown by `distance` (shrunk when negative): ``f - distance``.
+
+    Exact for an exact child when growing; for shrinking, and for a child that
+    is a bound, the result is a bound.
+    """
+
+    kind = "offset"
+    __slots__ = ()
+
+    def __init__(self, solid: Solid, distance: float):
+        d = as_finite(distance, "distance")
+        lo, hi = solid.bounds
+        pad = max(d, 0.0)
+        super().__init__((solid,), {"distance": d}, (lo - pad, hi + pad),
+                         exact=solid.exact and d >= 0, lipschitz=solid.lipschitz)
+
+    def _evaluate(self, p):
+        return self._children[0]._evaluate(p) - self._params["distance"]
+
+
+class Shell(Solid):
+    """Hollow solid: points within `thickness`/2 of the child's boundary
+    (``|f| - thickness/2``), a wall centred on the original surface."""
+
+    kind = "shell"
+    __slots__ = ()
+
+    def __init__(self, solid: Solid, thickness: float):
+        t = as_positive(thickness, "thickness")
+        lo, hi = solid.bounds
+        super().__init__((solid,), {"thickness": t}, (lo - t / 2, hi + t / 2),
+                         exact=solid.exact, lipschitz=solid.lipschitz)
+
+    def _evaluate(self, p):
+        return np.abs(self._children[0]._evaluate(p)) - 0.5 * self._params["thickness"]
+
+
+@register_operator("offset")
+def offset(solid: Solid, distance: float) -> Solid:
+    """`solid` grown by `distance` (negative shrinks).
+
+    Examples
+    --------
+    >>> from implicit import sphere, offset
+    >>> float(offset(sphere(1.0), 0.5)([[1.5, 0, 0]])[0])
+    0.0
+    """
+    if not isinstance(solid, Solid):
+        raise TypeError(f"offset: solid must be a Solid, got {type(solid).__name__}")
+    return Offset(solid, distance)
+
+
+@register_operator("shell")
+def shell(solid: Solid, thickness: float) -> Solid:
+    """A wall of `thickness` centred on the boundary of `solid`."""
+    if not isinstance(solid, Solid):
+        raise TypeError(f"shell: solid must be a Solid, got {type(solid).__name__}")
+    return Shell(solid, thickness)

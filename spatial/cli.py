@@ -1,0 +1,98 @@
+"""The `implicad` command.
+
+Each sub-command lives in its own module of `spatial.commands` and provides
+``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
+Bad input prints one line on stderr and exits with status 2 (a traceback only
+with ``--debug``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from importlib import metadata
+
+__all__ = ["main", "build_parser", "CommandError"]
+
+#: Sub-command modules, in the order `--help` lists them.
+COMMAND_MODULES = (
+    "info",
+    "families",
+    "mesh",
+    "mass",
+    "check",
+    "section",
+    "interfere",
+    "fea",
+)
+
+
+class CommandError(Exception):
+    """A user-facing failure: printed as one line, exit status 2."""
+
+
+def _version() -> str:
+    try:
+        return metadata.version("implicad")
+    except metadata.PackageNotFoundError:  # pragma: no cover - running from a plain checkout
+        return "unknown"
+
+
+def _load_commands():
+    commands = []
+    for name in COMMAND_MODULES:
+        try:
+            module = importlib.import_module(f"spatial.commands.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"spatial.commands.{name}":
+                continue
+            raise
+        commands.append(module)
+    return commands
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of `implicad` with every available sub-command."""
+    parser = argparse.ArgumentParser(
+        prog="implicad",
+        description="Volumetric / implicit solid modeler: CSG solids, octree cells, "
+        "occupancy grids, boundary meshes, mass properties and FEA meshes.",
+    )
+    parser.add_argument("--version", action="version", version=f"implicad {_version()}")
+    parser.add_argument("--debug", action="store_true", help="show a traceback on errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    for module in _load_commands():
+        p = sub.add_parser(module.NAME, help=module.HELP, description=getattr(module, "DESCRIPTION", module.HELP))
+        p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show a traceback on errors")
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+
+
+def main(argv=None) -> int:
+    """Run `implicad` with `argv` (default: ``sys.argv[1:]``); return the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    debug = getattr(args, "debug", False)
+    try:
+        status = args._run(args)
+    except KeyboardInterrupt:
+        print("implicad: interrupted", file=sys.stderr)
+        return 130
+    except (CommandError, ValueError, TypeError, OSError, ImportError, MemoryError, SyntaxError) as exc:
+        if debug:
+            raise
+        message = str(exc) or type(exc).__name__
+        if isinstance(exc, OSError) and exc.filename and exc.strerror:
+            message = f"{exc.filename}: {exc.strerror}"
+        print(f"implicad: error: {message.splitlines()[0] if message else type(exc).__name__}", file=sys.stderr)
+        return 2
+    return int(status or 0)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

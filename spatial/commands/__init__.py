@@ -1,0 +1,1 @@
+"""Sub-commands of `implicad`, one module each (see `spatial.cli`)."""
