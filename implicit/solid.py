@@ -153,6 +153,25 @@ class Solid:
     kind: str = "solid"
     __slots__ = ("_children", "_params", "_bounds", "_exact", "_lipschitz", "__weakref__")
 
+    #: Every concrete node class by its `kind`, for deserialisation.
+    registry: dict = {}
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        kind = cls.__dict__.get("kind")
+        if kind is not None:
+            Solid.registry[kind] = cls
+
+    @classmethod
+    def from_params(cls, children, params):
+        """Rebuild a node of this class from its children and `params`.
+
+        The default suits operators (``cls(*children, **params)``) and
+        primitives (``cls(**params)``); classes whose constructor differs
+        override it.
+        """
+        return cls(*children, **params)
+
     def __init__(self, children=(), params=None, bounds=INFINITE_BOUNDS, *, exact=False, lipschitz=1.0):
         for i, child in enumerate(children):
             if not isinstance(child, Solid):
