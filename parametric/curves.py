@@ -1,0 +1,602 @@
+"""Parametric curves: Hermite, Bezier, B-spline and NURBS.
+
+Every curve is immutable (editing returns a new object) and evaluates in batches:
+``curve(u)`` takes a scalar or an ``(n,)`` array and returns ``(n, dim)`` points
+(``(dim,)`` for a scalar). Parameters outside :attr:`Curve.domain` raise
+``ValueError`` naming ``u``.
+
+References: L. Piegl and W. Tiller, *The NURBS Book*, 2nd ed., Springer 1997,
+doi:10.1007/978-3-642-59223-2 (algorithm numbers A2.x-A5.x are cited per method).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import comb
+
+from . import _ops
+from .basis import KNOT_TOL, _check_degree, bernstein, clamped_knots, periodic_knots, validate_knots
+
+__all__ = ["Curve", "FunctionCurve", "Hermite", "Bezier", "BSpline", "NURBS"]
+
+
+def _points(arr, name, min_rows=1):
+    try:
+        P = np.array(arr, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a numeric array of shape (n, dim)") from None
+    if P.ndim != 2 or P.shape[1] < 1:
+        raise ValueError(f"{name} must have shape (n, dim), got {P.shape}")
+    if P.shape[0] < min_rows:
+        raise ValueError(f"{name} needs at least {min_rows} points, got {P.shape[0]}")
+    if not np.all(np.isfinite(P)):
+        raise ValueError(f"{name} must be finite")
+    P.setflags(write=False)
+    return P
+
+
+def _vector(arr, name):
+    try:
+        v = np.array(arr, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a numeric vector") from None
+    if v.ndim != 1 or v.size < 1:
+        raise ValueError(f"{name} must be a 1-D vector, got shape {v.shape}")
+    if not np.all(np.isfinite(v)):
+        raise ValueError(f"{name} must be finite")
+    v.setflags(write=False)
+    return v
+
+
+def _check_order(order):
+    if isinstance(order, (bool, np.bool_)) or not isinstance(order, (int, np.integer)):
+        raise TypeError(f"order must be an int, got {type(order).__name__}")
+    if order < 0:
+        raise ValueError(f"order must be >= 0, got {order}")
+    return int(order)
+
+
+class Curve:
+    """Base of all parametric curves.
+
+    Subclasses implement ``_eval(u)`` and ``_derivs(u, order)`` on validated
+    ``(n,)`` arrays and set ``_domain`` and ``_dim``.
+    """
+
+    _domain = (0.0, 1.0)
+    _dim = 3
+
+    @property
+    def domain(self):
+        """(a, b): the parametric domain."""
+        return self._domain
+
+    @property
+    def dim(self):
+        """Dimension of the points (2 or 3 usually)."""
+        return self._dim
+
+    def _params(self, u):
+        try:
+            arr = np.asarray(u, dtype=float)
+        except (TypeError, ValueError):
+            raise TypeError("u must be a float or an array of floats") from None
+        if arr.ndim > 1:
+            raise ValueError(f"u must be a scalar or a 1-D array, got shape {arr.shape}")
+        scalar = arr.ndim == 0
+        arr = np.atleast_1d(arr)
+        a, b = self._domain
+        tol = KNOT_TOL * max(1.0, abs(a), abs(b))
+        if arr.size and not (np.all(np.isfinite(arr)) and arr.min() >= a - tol and arr.max() <= b + tol):
+            bad = arr[~((arr >= a - tol) & (arr <= b + tol))]
+            raise ValueError(
+                f"u must lie in the domain [{a}, {b}], got {bad[0] if bad.size else 'nan'}")
+        return np.clip(arr, a, b), scalar
+
+    def __call__(self, u):
+        uu, scalar = self._params(u)
+        out = self._eval(uu)
+        return out[0] if scalar else out
+
+    def derivatives(self, u, order=1):
+        """All derivatives of orders ``0..order``.
+
+        Returns
+        -------
+        (n, order + 1, dim) float array (``(order + 1, dim)`` for a scalar ``u``).
+        """
+        order = _check_order(order)
+        uu, scalar = self._params(u)
+        out = self._derivs(uu, order)
+        return out[0] if scalar else out
+
+    def derivative(self, u, order=1):
+        """The ``order``-th derivative ``d^k C / du^k``: (n, dim) or (dim,)."""
+        d = self.derivatives(u, order)
+        return d[..., order, :]
+
+    def tangent(self, u):
+        """Unit tangent vectors: (n, dim) or (dim,)."""
+        d = self.derivative(u, 1)
+        return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+    def sample(self, n=100):
+        """``n`` points at uniformly spaced parameters: (n, dim)."""
+        a, b = self._domain
+        return self(np.linspace(a, b, int(n)))
+
+    def _derivs(self, u, order):  # generic fallback: central differences
+        a, b = self._domain
+        h = 1e-4 * (b - a)
+        out = [self._eval(u)]
+        for k in range(1, order + 1):
+            if k > 2:
+                raise NotImplementedError("finite-difference derivatives stop at order 2")
+            lo = np.clip(u - h, a, b)
+            hi = np.clip(u + h, a, b)
+            mid = 0.5 * (lo + hi)
+            step = (hi - lo) / 2.0
+            if k == 1:
+                out.append((self._eval(hi) - self._eval(lo)) / (2.0 * step)[:, None])
+            else:
+                out.append((self._eval(hi) - 2.0 * self._eval(mid) + self._eval(lo))
+                           / (step ** 2)[:, None])
+        return np.stack(out, axis=1)
+
+    def __bool__(self):
+        raise TypeError(f"the truth value of a {type(self).__name__} is ambiguous")
+
+
+class FunctionCurve(Curve):
+    """Wrap any callable ``u -> (n, dim)`` points as a curve (derivatives by differences).
+
+    Examples
+    --------
+    >>> c = FunctionCurve(lambda u: np.stack([u, u**2], axis=-1), (0.0, 1.0))
+    >>> c(0.5)
+    array([0.5 , 0.25])
+    """
+
+    def __init__(self, func, domain=(0.0, 1.0), dim=None):
+        if not callable(func):
+            raise TypeError(f"func must be callable, got {type(func).__name__}")
+        self._func = func
+        a, b = (float(x) for x in domain)
+        if not a < b:
+            raise ValueError(f"domain must satisfy a < b, got ({a}, {b})")
+        self._domain = (a, b)
+        probe = np.asarray(func(np.array([a])), dtype=float)
+        self._dim = int(probe.shape[-1]) if dim is None else int(dim)
+
+    def _eval(self, u):
+        return np.asarray(self._func(u), dtype=float).reshape(u.shape[0], self._dim)
+
+
+# --------------------------------------------------------------------------- Hermite
+
+_HERMITE = np.array([[1.0, 0.0, -3.0, 2.0],    # 1 - 3u^2 + 2u^3
+                     [0.0, 0.0, 3.0, -2.0],    # 3u^2 - 2u^3
+                     [0.0, 1.0, -2.0, 1.0],    # u - 2u^2 + u^3
+                     [0.0, 0.0, -1.0, 1.0]])   # -u^2 + u^3
+
+
+def _power_derivs(u, order):
+    """Rows ``d^k/du^k [1, u, u^2, u^3]`` for k = 0..order: (n, order+1, 4)."""
+    out = np.zeros((u.shape[0], order + 1, 4))
+    for k in range(order + 1):
+        for i in range(k, 4):
+            out[:, k, i] = (np.prod(np.arange(i - k + 1, i + 1)) if k else 1.0) * u ** (i - k)
+    return out
+
+
+class Hermite(Curve):
+    """Cubic Hermite curve from end points and end tangents.
+
+    ``P(u) = [1-3u²+2u³, 3u²-2u³, u-2u²+u³, -u²+u³] · [P0, P1, P0', P1']``,
+    ``u in [0, 1]``.
+
+    Parameters
+    ----------
+    p0, p1 : (dim,) float
+        End points.
+    t0, t1 : (dim,) float
+        Tangent vectors ``P'(0)`` and ``P'(1)``.
+
+    Examples
+    --------
+    >>> h = Hermite([0, 0], [1, 0], [1, 1], [1, -1])
+    >>> h(0.5)
+    array([0.5 , 0.25])
+    """
+
+    def __init__(self, p0, p1, t0, t1):
+        vecs = [_vector(v, n) for v, n in ((p0, "p0"), (p1, "p1"), (t0, "t0"), (t1, "t1"))]
+        dims = {v.size for v in vecs}
+        if len(dims) != 1:
+            raise ValueError(f"p0, p1, t0, t1 must share one dimension, got sizes {[v.size for v in vecs]}")
+        self._G = np.stack(vecs)
+        self._G.setflags(write=False)
+        self._dim = vecs[0].size
+
+    @property
+    def geometry(self):
+        """(4, dim) geometric coefficients [P0, P1, P0', P1']."""
+        return self._G
+
+    @staticmethod
+    def blending_functions(u):
+        """Hermite blending functions at ``u``: (n, 4) (``(4,)`` for a scalar)."""
+        uu = np.asarray(u, dtype=float)
+        scalar = uu.ndim == 0
+        uu = np.atleast_1d(uu)
+        out = _power_derivs(uu, 0)[:, 0, :] @ _HERMITE.T
+        return out[0] if scalar else out
+
+    def _eval(self, u):
+        return (_power_derivs(u, 0)[:, 0, :] @ _HERMITE.T) @ self._G
+
+    def _derivs(self, u, order):
+        pw = _power_derivs(u, order)  # (n, k, 4)
+        return np.einsum("nki,ji,jd->nkd", pw, _HERMITE, self._G)
+
+    def to_bezier(self):
+        """The same curve as a cubic :class:`Bezier`."""
+        P0, P1, T0, T1 = self._G
+        return Bezier(np.stack([P0, P0 + T0 / 3.0, P1 - T1 / 3.0, P1]))
+
+    def __repr__(self):
+        return f"Hermite(dim={self._dim})"
+
+
+# --------------------------------------------------------------------------- Bezier
+
+class Bezier(Curve):
+    """Bezier curve of any degree and dimension on ``u in [0, 1]``.
+
+    Parameters
+    ----------
+    control_points : (n + 1, dim) float
+        Control polygon; the degree is ``n``.
+
+    Examples
+    --------
+    >>> b = Bezier([[0, 0], [1, 2], [2, 0]])
+    >>> b(0.5)
+    array([1., 1.])
+    >>> left, right = b.split(0.5)
+    """
+
+    def __init__(self, control_points):
+        self._P = _points(control_points, "control_points", min_rows=1)
+        self._dim = self._P.shape[1]
+
+    @property
+    def control_points(self):
+        """(n + 1, dim) read-only control polygon."""
+        return self._P
+
+    @property
+    def degree(self):
+        return self._P.shape[0] - 1
+
+    def _eval(self, u):
+        return bernstein(self.degree, u) @ self._P
+
+    def _derivs(self, u, order):
+        out = np.zeros((u.shape[0], order + 1, self._dim))
+        Q = self._P
+        n = self.degree
+        for k in range(order + 1):
+            if Q.shape[0] == 0:
+                break
+            out[:, k, :] = bernstein(Q.shape[0] - 1, u) @ Q
+            Q = (n - k) * np.diff(Q, axis=0)
+        return out
+
+    def de_casteljau(self, u):
+        """Evaluate by de Casteljau's algorithm (vectorized over ``u``).
+
+        Returns
+        -------
+        (n, dim) float array (``(dim,)`` for a scalar).
+        """
+        uu, scalar = self._params(u)
+        Q = np.broadcast_to(self._P, (uu.size,) + self._P.shape).copy()
+        t = uu[:, None, None]
+        for k in range(self.degree):
+            Q = (1.0 - t) * Q[:, :-1] + t * Q[:, 1:]
+        out = Q[:, 0, :]
+        return out[0] if scalar else out
+
+    def derivative_curve(self):
+        """Hodograph: the derivative as a Bezier of degree ``n - 1``."""
+        if self.degree == 0:
+            return Bezier(np.zeros((1, self._dim)))
+        return Bezier(self.degree * np.diff(self._P, axis=0))
+
+    def split(self, u):
+        """Subdivide at ``u`` into two Bezier curves covering [0, u] and [u, 1]."""
+        uu, _ = self._params(u)
+        t = float(uu[0])
+        if not 0.0 < t < 1.0:
+            raise ValueError(f"u must lie strictly inside (0, 1) to split, got {t}")
+        Q = self._P.copy()
+        left = [Q[0].copy()]
+        right = [Q[-1].copy()]
+        for _ in range(self.degree):
+            Q = (1.0 - t) * Q[:-1] + t * Q[1:]
+            left.append(Q[0].copy())
+            right.append(Q[-1].copy())
+        return Bezier(np.array(left)), Bezier(np.array(right[::-1]))
+
+    def elevate_degree(self, times=1):
+        """Same curve with degree raised by ``times`` (eq. 5.36)."""
+        times = _check_degree(times, "times", minimum=0)
+        Q = self._P
+        for _ in range(times):
+            n = Q.shape[0] - 1
+            i = np.arange(1, n + 1)[:, None] / (n + 1.0)
+            mid = i * Q[:-1] + (1.0 - i) * Q[1:]
+            Q = np.concatenate([Q[:1], mid, Q[-1:]])
+        return Bezier(Q)
+
+    def to_bspline(self):
+        """The same curve as a clamped :class:`BSpline` with Bezier knots."""
+        p = max(self.degree, 1)
+        Q = self._P if self.degree >= 1 else np.repeat(self._P, 2, axis=0)
+        return BSpline(Q, p, np.concatenate([np.zeros(p + 1), np.ones(p + 1)]))
+
+    def to_nurbs(self):
+        return self.to_bspline().to_nurbs()
+
+    def __repr__(self):
+        return f"Bezier(degree={self.degree}, dim={self._dim})"
+
+
+# --------------------------------------------------------------------------- B-spline
+
+class BSpline(Curve):
+    """Non-rational B-spline curve.
+
+    Parameters
+    ----------
+    control_points : (n + 1, dim) float
+    degree : int
+        ``1 <= degree <= n``.
+    knots : (n + degree + 2,) float, optional
+        Non-decreasing knot vector; clamped uniform on [0, 1] by default.
+        Unclamped and periodic vectors are accepted (the domain is
+        ``[U[p], U[n + 1]]``).
+
+    Examples
+    --------
+    >>> c = BSpline([[0, 0], [1, 1], [2, 0], [3, 1]], 2)
+    >>> c([0.0, 1.0])
+    array([[0., 0.],
+           [3., 1.]])
+    >>> c.insert_knot(0.25)(0.3) - c(0.3)
+    array([0., 0.])
+    """
+
+    def __init__(self, control_points, degree, knots=None):
+        P = _points(control_points, "control_points", min_rows=2)
+        p = _check_degree(degree)
+        if P.shape[0] < p + 1:
+            raise ValueError(
+                f"control_points: degree {p} needs at least {p + 1} points, got {P.shape[0]}")
+        U = clamped_knots(P.shape[0], p) if knots is None else knots
+        self._U = validate_knots(U, p, P.shape[0])
+        self._P = P
+        self._p = p
+        self._dim = P.shape[1]
+        self._domain = _ops.domain(self._U, p)
+
+    @classmethod
+    def periodic(cls, control_points, degree, domain=(0.0, 1.0)):
+        """Closed C^(p-1) curve through the cyclic polygon ``control_points``.
+
+        The first ``degree`` points are repeated at the end and the knot vector
+        is uniform (:func:`parametric.basis.periodic_knots`), so ``C(a) == C(b)``
+        with all derivatives up to ``degree - 1`` equal.
+        """
+        P = _points(control_points, "control_points", min_rows=2)
+        p = _check_degree(degree)
+        if P.shape[0] < p + 1:
+            raise ValueError(f"control_points: periodic degree {p} needs >= {p + 1} points")
+        return cls(np.concatenate([P, P[:p]]), p, periodic_knots(P.shape[0], p, domain))
+
+    @property
+    def control_points(self):
+        """(n + 1, dim) read-only control points."""
+        return self._P
+
+    @property
+    def degree(self):
+        return self._p
+
+    @property
+    def knots(self):
+        """Read-only knot vector."""
+        return self._U
+
+    def _fast(self, u):
+        """Evaluate the (homogeneous) control array at many parameters."""
+        ctrl = self._ctrl()
+        if u.shape[0] < _ops.POLY_MIN_POINTS:
+            return _ops.eval_points(self._U, self._p, ctrl, u)
+        table = self.__dict__.get("_table")
+        if table is None:
+            table = _ops.PolyTable(self._U, self._p, ctrl)
+            self.__dict__["_table"] = table
+        return table(u).T
+
+    def _eval(self, u):
+        return self._fast(u)
+
+    def _derivs(self, u, order):
+        return _ops.eval_derivs(self._U, self._p, self._P, u, order)
+
+    def derivative_curve(self):
+        """The derivative as a B-spline of degree ``p - 1`` (eq. 3.8)."""
+        if self._p == 1:
+            raise ValueError("derivative_curve of a degree-1 curve would have degree 0")
+        U, Q = _ops.derivative_control(self._U, self._p, self._P)
+        return BSpline(Q, self._p - 1, U)
+
+    def insert_knot(self, u, times=1):
+        """Insert knot ``u`` ``times`` times (Boehm, A5.1); the curve is unchanged."""
+        times = _check_degree(times, "times", minimum=1)
+        U, Q = _ops.insert_knot(self._U, self._p, self._ctrl(), float(u), times)
+        return self._from_ctrl(Q, self._p, U)
+
+    def refine_knots(self, new_knots):
+        """Insert many knots at once (A5.4); the curve is unchanged."""
+        U, Q = _ops.refine(self._U, self._p, self._ctrl(), new_knots)
+        return self._from_ctrl(Q, self._p, U)
+
+    def elevate_degree(self, times=1):
+        """Raise the degree by ``times``; the curve is unchanged.
+
+        Every distinct interior knot gains ``times`` in multiplicity (so the
+        continuity is kept); the result is clamped on the same domain.
+        """
+        times = _check_degree(times, "times", minimum=0)
+        if times == 0:
+            return self
+        U, Q = _ops.elevate(self._U, self._p, self._ctrl(), times)
+        return self._from_ctrl(Q, self._p + times, U)
+
+    def clamped(self):
+        """The same curve with a clamped knot vector on the same domain."""
+        U, Q = _ops.clamp(self._U, self._p, self._ctrl())
+        return self._from_ctrl(Q, self._p, U)
+
+    def to_bezier_segments(self):
+        """Bezier pieces, one per non-empty knot span.
+
+        Returns
+        -------
+        list of :class:`Bezier`; piece ``i`` maps ``t in [0, 1]`` to the span
+        ``[k_i, k_{i+1}]`` via ``u = k_i + t (k_{i+1} - k_i)``.
+        """
+        return [Bezier(Q) for _, _, Q in _ops.bezier_segments(self._U, self._p, self._P)]
+
+    def to_nurbs(self):
+        """The same curve as a :class:`NURBS` with all weights 1."""
+        return NURBS(self._P, np.ones(self._P.shape[0]), self._p, self._U)
+
+    # hooks letting NURBS reuse the editing methods in homogeneous space
+    def _ctrl(self):
+        return self._P
+
+    def _from_ctrl(self, Q, p, U):
+        return BSpline(Q, p, U)
+
+    def __repr__(self):
+        return f"BSpline(degree={self._p}, n_control={self._P.shape[0]}, dim={self._dim})"
+
+
+# --------------------------------------------------------------------------- NURBS
+
+class NURBS(BSpline):
+    """Non-uniform rational B-spline curve.
+
+    ``P(u) = sum h_i P_i N_i(u) / sum h_i N_i(u)``, evaluated in homogeneous
+    coordinates ``(h_i P_i, h_i)``.
+
+    Parameters
+    ----------
+    control_points : (n + 1, dim) float
+    weights : (n + 1,) float, all > 0
+    degree : int
+    knots : (n + degree + 2,) float, optional (clamped uniform by default)
+
+    Examples
+    --------
+    >>> w = np.sqrt(0.5)
+    >>> quarter = NURBS([[1, 0], [1, 1], [0, 1]], [1, w, 1], 2)
+    >>> float(np.linalg.norm(quarter(0.3)))
+    1.0
+    """
+
+    def __init__(self, control_points, weights, degree, knots=None):
+        super().__init__(control_points, degree, knots)
+        w = _vector(weights, "weights")
+        if w.size != self._P.shape[0]:
+            raise ValueError(
+                f"weights must have one value per control point ({self._P.shape[0]}), got {w.size}")
+        if np.any(w <= 0):
+            raise ValueError("weights must be > 0")
+        self._w = w
+        Pw = np.concatenate([self._P * w[:, None], w[:, None]], axis=1)
+        Pw.setflags(write=False)
+        self._Pw = Pw
+
+    @classmethod
+    def from_homogeneous(cls, Pw, degree, knots):
+        Pw = np.asarray(Pw, dtype=float)
+        w = Pw[:, -1]
+        return cls(Pw[:, :-1] / w[:, None], w, degree, knots)
+
+    @classmethod
+    def periodic(cls, control_points, weights, degree, domain=(0.0, 1.0)):
+        """Closed rational curve (see :meth:`BSpline.periodic`)."""
+        P = _points(control_points, "control_points", min_rows=2)
+        w = _vector(weights, "weights")
+        p = _check_degree(degree)
+        return cls(np.concatenate([P, P[:p]]), np.concatenate([w, w[:p]]), p,
+                   periodic_knots(P.shape[0], p, domain))
+
+    @property
+    def weights(self):
+        """(n + 1,) read-only weights."""
+        return self._w
+
+    @property
+    def homogeneous(self):
+        """(n + 1, dim + 1) homogeneous control points ``(w P, w)``."""
+        return self._Pw
+
+    def _eval(self, u):
+        h = self._fast(u)
+        return h[:, :-1] / h[:, -1:]
+
+    def _derivs(self, u, order):
+        """Rational derivatives from homogeneous ones (A4.2, vectorized)."""
+        H = _ops.eval_derivs(self._U, self._p, self._Pw, u, order)
+        A, w = H[:, :, :-1], H[:, :, -1]
+        C = np.empty_like(A)
+        for k in range(order + 1):
+            v = A[:, k].copy()
+            for i in range(1, k + 1):
+                v -= comb(k, i) * w[:, i, None] * C[:, k - i]
+            C[:, k] = v / w[:, 0, None]
+        return C
+
+    def _ctrl(self):
+        return self._Pw
+
+    def _from_ctrl(self, Q, p, U):
+        return NURBS.from_homogeneous(Q, p, U)
+
+    def derivative_curve(self):
+        raise NotImplementedError("the derivative of a NURBS is not a NURBS of lower degree; "
+                                  "use derivative(u, order)")
+
+    def to_bezier_segments(self):
+        """Rational Bezier pieces as NURBS curves on their original knot spans."""
+        out = []
+        for a, b, Q in _ops.bezier_segments(self._U, self._p, self._Pw):
+            U = np.concatenate([np.full(self._p + 1, a), np.full(self._p + 1, b)])
+            out.append(NURBS.from_homogeneous(Q, self._p, U))
+        return out
+
+    def to_nurbs(self):
+        return self
+
+    def with_weights(self, weights):
+        """Copy with new weights (same control points, degree and knots)."""
+        return NURBS(self._P, weights, self._p, self._U)
+
+    def __repr__(self):
+        return f"NURBS(degree={self._p}, n_control={self._P.shape[0]}, dim={self._dim})"
