@@ -10,18 +10,22 @@ Examples
 
 from .solid import Solid, INFINITE_BOUNDS
 from .primitives import (
-    halfspace, sphere, box, rounded_box, cylinder, cone, frustum, torus,
+    halfspace, sphere, box, rounded_box, cylinder, cone, frustum, torus, ellipsoid, capsule,
 )
+from .polyhedra import convex_polyhedron, pyramid, wedge, prism
 from .csg import (
     union, intersection, difference, complement,
     smooth_union, smooth_intersection, smooth_difference,
 )
 from .transforms import translate, rotate, scale, mirror, affine, rotation_matrix
 from .modifiers import offset, shell
+from .sweeps import Profile, circle, rectangle, polygon, extrude, revolve
 
 __all__ = [
     "Solid", "INFINITE_BOUNDS",
     "halfspace", "sphere", "box", "rounded_box", "cylinder", "cone", "frustum", "torus",
+    "ellipsoid", "capsule", "convex_polyhedron", "pyramid", "wedge", "prism",
+    "Profile", "circle", "rectangle", "polygon", "extrude", "revolve",
     "union", "intersection", "difference", "complement",
     "smooth_union", "smooth_intersection", "smooth_difference",
     "translate", "rotate", "scale", "mirror", "affine", "rotation_matrix",

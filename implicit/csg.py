@@ -38,6 +38,7 @@ __all__ = [
     "smooth_union",
     "smooth_intersection",
     "smooth_difference",
+    "bound_slack",
 ]
 
 
@@ -66,6 +67,7 @@ class Union(Solid):
     def __init__(self, *children):
         if len(children) < 1:
             raise ValueError("union: expected at least one solid")
+        _check(children, "union")
         super().__init__(children, {}, _union_bounds(children),
                          exact=False, lipschitz=max(c.lipschitz for c in children))
 
@@ -86,6 +88,7 @@ class Intersection(Solid):
     def __init__(self, *children):
         if len(children) < 1:
             raise ValueError("intersection: expected at least one solid")
+        _check(children, "intersection")
         super().__init__(children, {}, _intersection_bounds(children),
                          exact=False, lipschitz=max(c.lipschitz for c in children))
 
@@ -105,6 +108,7 @@ class Difference(Solid):
     def __init__(self, base, *tools):
         if not tools:
             raise ValueError("difference: expected a base solid and at least one solid to subtract")
+        _check((base,) + tools, "difference")
         super().__init__((base,) + tools, {}, base.bounds if isinstance(base, Solid) else INFINITE_BOUNDS,
                          exact=False, lipschitz=max(c.lipschitz for c in (base,) + tools))
 
@@ -122,10 +126,30 @@ class Complement(Solid):
     __slots__ = ()
 
     def __init__(self, solid):
+        _check((solid,), "complement")
         super().__init__((solid,), {}, INFINITE_BOUNDS, exact=solid.exact, lipschitz=solid.lipschitz)
 
     def _evaluate(self, p):
         return -self._children[0]._evaluate(p)
+
+
+def bound_slack(solid: Solid) -> float:
+    """Factor ``s`` with: ``f(p) < t`` (t > 0) puts ``p`` within ``s * t`` of
+    `solid`'s bounds.
+
+    It is 1 for exact fields and their sharp CSG; an affine map multiplies it
+    by its condition number, and a primitive whose field is a scaled bound
+    declares its own factor as the class attribute ``bound_slack``.
+    """
+    worst = 1.0
+    stack = [(solid, 1.0)]
+    while stack:
+        node, factor = stack.pop()
+        factor *= float(getattr(node, "bound_slack_factor", 1.0))
+        if not node.children:
+            worst = max(worst, factor)
+        stack.extend((c, factor) for c in node.children)
+    return worst
 
 
 def _smin(a, b, k):
@@ -156,9 +180,14 @@ class SmoothUnion(_Smooth):
     def __init__(self, *children, blend):
         if len(children) < 1:
             raise ValueError("smooth_union: expected at least one solid")
+        _check(children, "smooth_union")
         lo, hi = _union_bounds(children)
-        # The blend adds material at most blend/4 beyond the sharp union.
-        pad = as_positive(blend, "blend") / 4.0
+        # Each pairwise blend lowers the field by at most blend/4, so the result
+        # is at least min(f_i) - (n - 1) blend / 4: material appears only where
+        # some child's field is below that.  `bound_slack` turns a field value
+        # into a distance beyond that child's bounds.
+        pad = (len(children) - 1) * as_positive(blend, "blend") / 4.0
+        pad *= max(bound_slack(c) for c in children)
         super().__init__(children, blend, (lo - pad, hi + pad))
 
     def _evaluate(self, p):
@@ -178,6 +207,7 @@ class SmoothIntersection(_Smooth):
     def __init__(self, *children, blend):
         if len(children) < 1:
             raise ValueError("smooth_intersection: expected at least one solid")
+        _check(children, "smooth_intersection")
         super().__init__(children, blend, _intersection_bounds(children))
 
     def _evaluate(self, p):
@@ -197,6 +227,7 @@ class SmoothDifference(_Smooth):
     def __init__(self, base, *tools, blend):
         if not tools:
             raise ValueError("smooth_difference: expected a base solid and at least one solid to subtract")
+        _check((base,) + tools, "smooth_difference")
         super().__init__((base,) + tools, blend, base.bounds)
 
     def _evaluate(self, p):

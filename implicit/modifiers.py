@@ -12,19 +12,23 @@ __all__ = ["Offset", "Shell", "offset", "shell"]
 class Offset(Solid):
     """The child grown by `distance` (shrunk when negative): ``f - distance``.
 
-    Exact for an exact child when growing; for shrinking, and for a child that
-    is a bound, the result is a bound.
+    A conservative bound (1-Lipschitz when the child is).  For an exact child
+    and ``distance >= 0`` it is exact outside the result (the distance to a
+    Minkowski sum with a ball), but not inside a non-convex result, so the node
+    is marked exact only for ``distance == 0``.
     """
 
     kind = "offset"
     __slots__ = ()
 
     def __init__(self, solid: Solid, distance: float):
+        if not isinstance(solid, Solid):
+            raise TypeError(f"offset: solid must be a Solid, got {type(solid).__name__}")
         d = as_finite(distance, "distance")
         lo, hi = solid.bounds
         pad = max(d, 0.0)
         super().__init__((solid,), {"distance": d}, (lo - pad, hi + pad),
-                         exact=solid.exact and d >= 0, lipschitz=solid.lipschitz)
+                         exact=solid.exact and d == 0, lipschitz=solid.lipschitz)
 
     def _evaluate(self, p):
         return self._children[0]._evaluate(p) - self._params["distance"]
@@ -32,16 +36,22 @@ class Offset(Solid):
 
 class Shell(Solid):
     """Hollow solid: points within `thickness`/2 of the child's boundary
-    (``|f| - thickness/2``), a wall centred on the original surface."""
+    (``|f| - thickness/2``), a wall centred on the original surface.
+
+    A conservative bound: exact outside the wall for an exact child, not
+    inside it.
+    """
 
     kind = "shell"
     __slots__ = ()
 
     def __init__(self, solid: Solid, thickness: float):
+        if not isinstance(solid, Solid):
+            raise TypeError(f"shell: solid must be a Solid, got {type(solid).__name__}")
         t = as_positive(thickness, "thickness")
         lo, hi = solid.bounds
         super().__init__((solid,), {"thickness": t}, (lo - t / 2, hi + t / 2),
-                         exact=solid.exact, lipschitz=solid.lipschitz)
+                         exact=False, lipschitz=solid.lipschitz)
 
     def _evaluate(self, p):
         return np.abs(self._children[0]._evaluate(p)) - 0.5 * self._params["thickness"]

@@ -22,6 +22,8 @@ __all__ = [
     "Cylinder",
     "Cone",
     "Torus",
+    "Ellipsoid",
+    "Capsule",
     "halfspace",
     "sphere",
     "box",
@@ -30,6 +32,8 @@ __all__ = [
     "cone",
     "frustum",
     "torus",
+    "ellipsoid",
+    "capsule",
     "frame_from_axis",
 ]
 
@@ -234,6 +238,102 @@ class Torus(_Primitive):
     def _evaluate(self, p):
         q = (p - self._c) @ self._frame.T
         return np.hypot(np.hypot(q[:, 0], q[:, 1]) - self._R, q[:, 2]) - self._r
+
+
+class Ellipsoid(_Primitive):
+    """Axis-aligned ellipsoid of semi-axes `radii` about `center` (a bound).
+
+    The field ``(|(p - c) / r| - 1) * min(r)`` is a conservative 1-Lipschitz
+    bound, not an exact distance: its gradient is
+    ``min(r) * (q / r^2) / |q / r|`` with ``q = p - c``, whose norm is at most
+    ``min(r) * (1 / min(r)) * |q / r| / |q / r| = 1``; a 1-Lipschitz field that
+    vanishes on the boundary and has the right sign never exceeds the
+    distance to the boundary in magnitude.  It is exact on a sphere.
+    (Quilez's ``k0 * (k0 - 1) / k1`` is closer to the distance but not a bound:
+    it overestimates near the ends of the long axes.)
+    """
+
+    kind = "ellipsoid"
+    __slots__ = ("_c", "_r", "_rmin")
+
+    def __init__(self, radii=(1.0, 1.0, 1.0), center=(0.0, 0.0, 0.0)):
+        r = as_vector(radii, "radii")
+        if np.any(r <= 0):
+            raise ValueError(f"radii: expected positive semi-axes, got {r.tolist()}")
+        c = as_vector(center, "center")
+        super().__init__({"radii": r.tolist(), "center": c.tolist()}, (c - r, c + r),
+                         exact=bool(np.all(r == r[0])))
+        object.__setattr__(self, "_c", c)
+        object.__setattr__(self, "_r", r)
+        object.__setattr__(self, "_rmin", float(r.min()))
+
+    @property
+    def bound_slack_factor(self) -> float:
+        """``max(r) / min(r)``: a field value t puts a point within
+        ``t * max(r) / min(r)`` of the bounds."""
+        return float(self._r.max() / self._rmin)
+
+    def _evaluate(self, p):
+        q = (p - self._c) / self._r
+        return (np.sqrt(np.einsum("ij,ij->i", q, q)) - 1.0) * self._rmin
+
+
+class Capsule(_Primitive):
+    """All points within `radius` of the segment from `a` to `b` (exact)."""
+
+    kind = "capsule"
+    __slots__ = ("_a", "_ab", "_ab2", "_r")
+
+    def __init__(self, a=(0.0, 0.0, 0.0), b=(0.0, 0.0, 1.0), radius=0.5):
+        pa = as_vector(a, "a")
+        pb = as_vector(b, "b")
+        r = as_positive(radius, "radius")
+        ab = pb - pa
+        super().__init__({"a": pa.tolist(), "b": pb.tolist(), "radius": r},
+                         (np.minimum(pa, pb) - r, np.maximum(pa, pb) + r))
+        object.__setattr__(self, "_a", pa)
+        object.__setattr__(self, "_ab", ab)
+        object.__setattr__(self, "_ab2", float(ab @ ab))
+        object.__setattr__(self, "_r", r)
+
+    def _evaluate(self, p):
+        w = p - self._a
+        if self._ab2 > 0.0:
+            t = np.clip((w @ self._ab) / self._ab2, 0.0, 1.0)
+            w = w - t[:, None] * self._ab
+        return np.sqrt(np.einsum("ij,ij->i", w, w)) - self._r
+
+
+def ellipsoid(radii=(1.0, 1.0, 1.0), center=(0.0, 0.0, 0.0)) -> Solid:
+    """Axis-aligned ellipsoid with semi-axes `radii` (a conservative bound).
+
+    Parameters
+    ----------
+    radii : (3,) array_like or float
+        Semi-axes along x, y, z (a number for a sphere).
+    center : (3,) array_like
+
+    Examples
+    --------
+    >>> from implicit import ellipsoid
+    >>> float(ellipsoid((2, 1, 1))([[4.0, 0, 0]])[0])
+    1.0
+    """
+    if np.ndim(radii) == 0:
+        radii = [as_positive(radii, "radii")] * 3
+    return Ellipsoid(radii, center)
+
+
+def capsule(a=(0.0, 0.0, 0.0), b=(0.0, 0.0, 1.0), radius=0.5) -> Solid:
+    """Capsule: points within `radius` of the segment ``a``-``b`` (exact).
+
+    Examples
+    --------
+    >>> from implicit import capsule
+    >>> float(capsule((0, 0, 0), (0, 0, 2), 0.5)([[0, 0, 3.0]])[0])
+    0.5
+    """
+    return Capsule(a, b, radius)
 
 
 def halfspace(normal, point=(0.0, 0.0, 0.0)) -> Solid:

@@ -238,6 +238,61 @@ class Solid:
         """Lipschitz constant of the field."""
         return self._lipschitz
 
+    def require_bounds(self, bounds=None) -> tuple[np.ndarray, np.ndarray]:
+        """Finite bounds ``(lo, hi)`` for a decomposition of this solid.
+
+        Parameters
+        ----------
+        bounds : ((3,), (3,)) array_like, optional
+            A box given by the caller; used instead of `bounds` when given
+            (it must be finite with ``lo <= hi``).
+
+        Returns
+        -------
+        lo, hi : (3,) float64 ndarray
+            Finite bounds.  Empty bounds (``lo > hi``) are returned as they are.
+
+        Raises
+        ------
+        ValueError
+            When the solid is unbounded and no `bounds` were given.
+
+        Examples
+        --------
+        >>> from implicit import sphere, halfspace
+        >>> lo, hi = sphere(1.0).require_bounds()
+        >>> hi.tolist()
+        [1.0, 1.0, 1.0]
+        >>> lo, hi = halfspace((0, 0, 1)).require_bounds(((-1, -1, -1), (1, 1, 0)))
+        """
+        if bounds is not None:
+            try:
+                lo, hi = bounds
+            except (TypeError, ValueError) as exc:
+                raise ValueError("bounds: expected ((x0, y0, z0), (x1, y1, z1))") from exc
+            lo = as_vector(lo, "bounds lower corner")
+            hi = as_vector(hi, "bounds upper corner")
+            if np.any(lo > hi):
+                raise ValueError(f"bounds: expected lower corner <= upper corner, got {lo.tolist()} and {hi.tolist()}")
+            return lo, hi
+        lo, hi = self._bounds
+        if self.is_empty_bounds:
+            return lo.copy(), hi.copy()
+        if not self.is_bounded:
+            raise ValueError(
+                f"{self.kind}: the solid is unbounded (bounds {lo.tolist()} .. {hi.tolist()}); pass "
+                "bounds=((x0, y0, z0), (x1, y1, z1)) (command line: --bounds x0 y0 z0 x1 y1 z1)")
+        return lo.copy(), hi.copy()
+
+    def to_params(self) -> dict:
+        """Parameters for the JSON form (default: `params`).
+
+        Data-backed nodes override this (and `from_params`) to encode their
+        data; the result must hold only JSON values (numbers, strings, bools,
+        None, lists and dicts of them).
+        """
+        return self.params
+
     # -- evaluation -----------------------------------------------------------
     def __call__(self, points) -> np.ndarray:
         """Signed distances at `points`.

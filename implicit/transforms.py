@@ -39,7 +39,7 @@ class Affine(Solid):
     """
 
     kind = "affine"
-    __slots__ = ("_inv", "_offset", "_matrix", "_factor")
+    __slots__ = ("_inv", "_offset", "_matrix", "_factor", "_cond")
 
     def __init__(self, solid: Solid, matrix, offset=(0.0, 0.0, 0.0)):
         if not isinstance(solid, Solid):
@@ -56,11 +56,13 @@ class Affine(Solid):
         lo, hi = solid.bounds
         if solid.is_empty_bounds:
             bounds = (lo, hi)
-        elif np.isfinite(lo).all() and np.isfinite(hi).all():
-            corners = box_corners(lo, hi) @ a.T + t
-            bounds = (corners.min(axis=0), corners.max(axis=0))
         else:
-            bounds = (np.full(3, -np.inf), np.full(3, np.inf))
+            # Interval arithmetic on p -> a p + t; zero coefficients contribute
+            # nothing, so a translated or permuted half-space keeps its finite side.
+            with np.errstate(invalid="ignore"):
+                c_lo = np.where(a == 0.0, 0.0, a * lo)
+                c_hi = np.where(a == 0.0, 0.0, a * hi)
+            bounds = (np.minimum(c_lo, c_hi).sum(axis=1) + t, np.maximum(c_lo, c_hi).sum(axis=1) + t)
         rigid_or_uniform = np.isclose(sv[0], sv[-1], rtol=1e-12)
         super().__init__((solid,), {"matrix": a.tolist(), "offset": t.tolist()}, bounds,
                          exact=solid.exact and bool(rigid_or_uniform), lipschitz=solid.lipschitz)
@@ -68,6 +70,12 @@ class Affine(Solid):
         object.__setattr__(self, "_inv", np.linalg.inv(a))
         object.__setattr__(self, "_offset", t)
         object.__setattr__(self, "_factor", float(sv[-1]))
+        object.__setattr__(self, "_cond", float(sv[0] / sv[-1]))
+
+    @property
+    def bound_slack_factor(self) -> float:
+        """Condition number of the matrix (see `implicit.csg.bound_slack`)."""
+        return self._cond
 
     @property
     def matrix(self) -> np.ndarray:
