@@ -1,0 +1,508 @@
+"""Biparametric surfaces: the common base, Coons patches, ruled and bicubic patches.
+
+Tensor-product Bezier, B-spline and NURBS surfaces live in
+:mod:`parametric.tensor` and share the :class:`Surface` base defined here.
+
+A surface maps ``(u, v)`` in its rectangular domain to points: ``surface(u, v)``
+takes equal-shape (or broadcastable) arrays and returns ``(..., 3)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .basis import KNOT_TOL
+from .curves import Bezier, Curve, FunctionCurve, _check_order, _HERMITE, _power_derivs
+
+__all__ = ["Surface", "CoonsPatch", "RuledSurface", "BicubicPatch"]
+
+#: Corner mismatch allowed by :class:`CoonsPatch`, relative to the patch size.
+CORNER_TOL = 1e-9
+
+
+def _check_domain_pair(dom, name):
+    a, b = (float(x) for x in dom)
+    if not a < b:
+        raise ValueError(f"{name} must satisfy a < b, got ({a}, {b})")
+    return a, b
+
+
+class Surface:
+    """Base of all biparametric surfaces ``S(u, v)``.
+
+    Subclasses implement ``_eval(u, v)`` on flat validated arrays, returning
+    ``(n, dim)``, and may override ``_derivs(u, v, order)`` (returning
+    ``(n, order + 1, order + 1, dim)``) and ``_grid(us, vs)``; the defaults use
+    central differences and point evaluation.
+    """
+
+    _domain_u = (0.0, 1.0)
+    _domain_v = (0.0, 1.0)
+    _dim = 3
+
+    @property
+    def domain_u(self):
+        return self._domain_u
+
+    @property
+    def domain_v(self):
+        return self._domain_v
+
+    @property
+    def dim(self):
+        return self._dim
+
+    def __bool__(self):
+        raise TypeError(f"the truth value of a {type(self).__name__} is ambiguous")
+
+    # ---------------------------------------------------------------- parameters
+    @staticmethod
+    def _check_in(arr, dom, name):
+        a, b = dom
+        tol = KNOT_TOL * max(1.0, abs(a), abs(b))
+        if arr.size:
+            ok = np.isfinite(arr) & (arr >= a - tol) & (arr <= b + tol)
+            if not np.all(ok):
+                raise ValueError(f"{name} must lie in [{a}, {b}], got {arr[~ok].ravel()[0]}")
+        return np.clip(arr, a, b)
+
+    def _params(self, u, v):
+        try:
+            uu = np.asarray(u, dtype=float)
+            vv = np.asarray(v, dtype=float)
+        except (TypeError, ValueError):
+            raise TypeError("u and v must be floats or arrays of floats") from None
+        try:
+            uu, vv = np.broadcast_arrays(uu, vv)
+        except ValueError:
+            raise ValueError(f"u and v must have equal (broadcastable) shapes, got "
+                             f"{np.shape(u)} and {np.shape(v)}") from None
+        shape = uu.shape
+        uu = self._check_in(uu.ravel(), self._domain_u, "u")
+        vv = self._check_in(vv.ravel(), self._domain_v, "v")
+        return uu, vv, shape
+
+    def _params_1d(self, x, dom, name):
+        try:
+            arr = np.atleast_1d(np.asarray(x, dtype=float))
+        except (TypeError, ValueError):
+            raise TypeError(f"{name} must be a 1-D array of floats") from None
+        if arr.ndim != 1:
+            raise ValueError(f"{name} must be 1-D, got shape {arr.shape}")
+        return self._check_in(arr, dom, name)
+
+    # ---------------------------------------------------------------- evaluation
+    def __call__(self, u, v):
+        """Points ``S(u, v)``: (..., dim) for ``u`` and ``v`` of shape (...)."""
+        uu, vv, shape = self._params(u, v)
+        return self._eval(uu, vv).reshape(shape + (self._dim,))
+
+    def grid(self, us, vs):
+        """Points on the tensor grid ``us x vs``: (len(us), len(vs), dim)."""
+        us = self._params_1d(us, self._domain_u, "us")
+        vs = self._params_1d(vs, self._domain_v, "vs")
+        return self._grid(us, vs)
+
+    def _grid(self, us, vs):
+        U, V = np.meshgrid(us, vs, indexing="ij")
+        return self._eval(U.ravel(), V.ravel()).reshape(us.size, vs.size, self._dim)
+
+    def derivatives(self, u, v, order=1):
+        """Partial derivatives ``d^(k+l) S / du^k dv^l`` for ``k, l <= order``.
+
+        Returns
+        -------
+        (..., order + 1, order + 1, dim) float array; ``[..., k, l, :]`` holds
+        the ``k``-th derivative in ``u`` and ``l``-th in ``v``.
+        """
+        order = _check_order(order)
+        uu, vv, shape = self._params(u, v)
+        out = self._derivs(uu, vv, order)
+        return out.reshape(shape + out.shape[1:])
+
+    def _derivs(self, u, v, order):
+        if order > 2:
+            raise NotImplementedError(f"{type(self).__name__} gives derivatives up to order 2")
+        au, bu = self._domain_u
+        av, bv = self._domain_v
+        hu = 1e-4 * (bu - au)
+        hv = 1e-4 * (bv - av)
+        u0, u1 = np.clip(u - hu, au, bu), np.clip(u + hu, au, bu)
+        v0, v1 = np.clip(v - hv, av, bv), np.clip(v + hv, av, bv)
+        um, vm = 0.5 * (u0 + u1), 0.5 * (v0 + v1)
+        su, sv = ((u1 - u0) / 2)[:, None], ((v1 - v0) / 2)[:, None]
+        f = self._eval
+        out = np.zeros((u.size, order + 1, order + 1, self._dim))
+        out[:, 0, 0] = f(u, v)
+        if order >= 1:
+            out[:, 1, 0] = (f(u1, v) - f(u0, v)) / (2 * su)
+            out[:, 0, 1] = (f(u, v1) - f(u, v0)) / (2 * sv)
+        if order >= 2:
+            out[:, 2, 0] = (f(u1, v) - 2 * f(um, v) + f(u0, v)) / su ** 2
+            out[:, 0, 2] = (f(u, v1) - 2 * f(u, vm) + f(u, v0)) / sv ** 2
+            out[:, 1, 1] = (f(u1, v1) - f(u1, v0) - f(u0, v1) + f(u0, v0)) / (4 * su * sv)
+        return out
+
+    def normal(self, u, v):
+        """Unit normals ``Su x Sv / |Su x Sv|``: (..., 3)."""
+        if self._dim != 3:
+            raise ValueError(f"normal needs a 3-D surface, this one has dim {self._dim}")
+        d = self.derivatives(u, v, 1)
+        n = np.cross(d[..., 1, 0, :], d[..., 0, 1, :])
+        return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+    # ---------------------------------------------------------------- curves on the surface
+    def isocurve_u(self, u0):
+        """The curve ``v -> S(u0, v)``."""
+        u0 = float(self._params_1d(u0, self._domain_u, "u0")[0])
+        return FunctionCurve(lambda v: self._eval(np.full(v.shape, u0), v), self._domain_v,
+                             self._dim)
+
+    def isocurve_v(self, v0):
+        """The curve ``u -> S(u, v0)``."""
+        v0 = float(self._params_1d(v0, self._domain_v, "v0")[0])
+        return FunctionCurve(lambda u: self._eval(u, np.full(u.shape, v0)), self._domain_u,
+                             self._dim)
+
+    def isoparametric_lines(self, step=0.1, samples=50):
+        """Polylines of the isoparametric curves at ``u`` and ``v`` steps of ``step``.
+
+        ``step`` is a fraction of each domain (0.1 gives 11 lines each way).
+
+        Returns
+        -------
+        u_lines : (k, samples, dim) float
+            Curves of constant ``u`` (``u = a_u + i step (b_u - a_u)``).
+        v_lines : (k, samples, dim) float
+            Curves of constant ``v``.
+        """
+        step = float(step)
+        if not 0 < step <= 1:
+            raise ValueError(f"step must lie in (0, 1], got {step}")
+        samples = int(samples)
+        if samples < 2:
+            raise ValueError(f"samples must be >= 2, got {samples}")
+        fr = np.arange(0.0, 1.0 + 1e-9, step)
+        fr[-1] = min(fr[-1], 1.0)
+        (au, bu), (av, bv) = self._domain_u, self._domain_v
+        t = np.linspace(0.0, 1.0, samples)
+        u_lines = self._grid(au + fr * (bu - au), av + t * (bv - av))
+        v_lines = np.transpose(self._grid(au + t * (bu - au), av + fr * (bv - av)), (1, 0, 2))
+        return u_lines, v_lines
+
+    def tessellate(self, nu=32, nv=32):
+        """Triangulate the surface on a regular ``nu x nv`` parameter grid.
+
+        Triangles wind counter-clockwise about ``Su x Sv`` (the :meth:`normal`).
+
+        Returns
+        -------
+        points : (nu * nv, dim) float
+        triangles : (2 (nu - 1)(nv - 1), 3) int
+        """
+        nu, nv = int(nu), int(nv)
+        if nu < 2 or nv < 2:
+            raise ValueError(f"nu and nv must be >= 2, got {nu}, {nv}")
+        (au, bu), (av, bv) = self._domain_u, self._domain_v
+        pts = self._grid(np.linspace(au, bu, nu), np.linspace(av, bv, nv)).reshape(-1, self._dim)
+        i, j = np.meshgrid(np.arange(nu - 1), np.arange(nv - 1), indexing="ij")
+        a = (i * nv + j).ravel()
+        b = a + nv
+        c = b + 1
+        d = a + 1
+        tris = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+        return pts, tris.astype(np.int64)
+
+
+# --------------------------------------------------------------------------- Coons
+
+def _as_curve(c, name):
+    if isinstance(c, Curve):
+        return c
+    if callable(c):
+        return FunctionCurve(c, (0.0, 1.0))
+    raise TypeError(f"{name} must be a curve or a callable u -> points, got {type(c).__name__}")
+
+
+def _curve_derivs(curve, t, order):
+    """Derivatives of ``curve`` reparametrized onto [0, 1]: (n, order+1, dim)."""
+    a, b = curve.domain
+    d = curve.derivatives(a + t * (b - a), order)
+    scale = (b - a) ** np.arange(order + 1)
+    return d * scale[None, :, None]
+
+
+def _blend(kind, t, order):
+    """Blending f(t) and its derivatives: (n, order+1) for f, and g = 1 - f."""
+    out = np.zeros((t.size, order + 1))
+    if kind == "linear":
+        out[:, 0] = 1.0 - t
+        if order >= 1:
+            out[:, 1] = -1.0
+    else:  # cubic Hermite blending
+        pw = _power_derivs(t, order)  # (n, k, 4)
+        out[:] = pw @ _HERMITE[0]
+    g = -out.copy()
+    g[:, 0] += 1.0
+    return out, g
+
+
+class CoonsPatch(Surface):
+    """Coons patch through four boundary curves.
+
+    ``P(u,v) = C0(u) f(v) + C1(u) g(v) + D0(v) f(u) + D1(v) g(u)
+    - p00 f(u) f(v) - p01 f(u) g(v) - p10 g(u) f(v) - p11 g(u) g(v)``
+
+    with ``f(t) = 1 - t``, ``g(t) = t`` (the linearly, i.e. bilinearly, blended
+    Coons patch of the lecture notes), or with the cubic Hermite blends
+    ``f(t) = 1 - 3t² + 2t³``, ``g = 1 - f`` (``blend="cubic"``), whose
+    cross-boundary derivatives come from the boundary curves only.
+
+    Parameters
+    ----------
+    c0, c1 : curve or callable
+        Boundaries at ``v = 0`` and ``v = 1``, parametrized by ``u``.
+    d0, d1 : curve or callable
+        Boundaries at ``u = 0`` and ``u = 1``, parametrized by ``v``.
+        Curve objects are reparametrized onto [0, 1]; plain callables take
+        ``u`` in [0, 1] and return ``(n, 3)``.
+    blend : {"linear", "cubic"}
+    tol : float
+        Allowed corner mismatch relative to the patch size.
+
+    Examples
+    --------
+    >>> from parametric.curves import BSpline
+    >>> c0 = BSpline([[0, 0, 0], [1, 0, 1], [2, 0, 0]], 2)
+    >>> c1 = BSpline([[0, 2, 0], [1, 2, -1], [2, 2, 0]], 2)
+    >>> d0 = BSpline([[0, 0, 0], [0, 2, 0]], 1)
+    >>> d1 = BSpline([[2, 0, 0], [2, 2, 0]], 1)
+    >>> patch = CoonsPatch(c0, c1, d0, d1)
+    >>> patch(0.5, 0.0)
+    array([1. , 0. , 0.5])
+    """
+
+    def __init__(self, c0, c1, d0, d1, *, blend="linear", tol=CORNER_TOL):
+        self._c0 = _as_curve(c0, "c0")
+        self._c1 = _as_curve(c1, "c1")
+        self._d0 = _as_curve(d0, "d0")
+        self._d1 = _as_curve(d1, "d1")
+        if blend not in ("linear", "cubic"):
+            raise ValueError(f"blend must be 'linear' or 'cubic', got {blend!r}")
+        self._blend = blend
+        ends = np.array([0.0, 1.0])
+        c0e = _curve_derivs(self._c0, ends, 0)[:, 0]
+        c1e = _curve_derivs(self._c1, ends, 0)[:, 0]
+        d0e = _curve_derivs(self._d0, ends, 0)[:, 0]
+        d1e = _curve_derivs(self._d1, ends, 0)[:, 0]
+        dims = {c0e.shape[1], c1e.shape[1], d0e.shape[1], d1e.shape[1]}
+        if len(dims) != 1:
+            raise ValueError(f"c0, c1, d0, d1 must share one dimension, got {sorted(dims)}")
+        self._dim = dims.pop()
+        scale = max(1.0, float(np.ptp(np.concatenate([c0e, c1e, d0e, d1e]), axis=0).max()))
+        checks = [("p00", "c0(0)", c0e[0], "d0(0)", d0e[0]),
+                  ("p10", "c0(1)", c0e[1], "d1(0)", d1e[0]),
+                  ("p01", "c1(0)", c1e[0], "d0(1)", d0e[1]),
+                  ("p11", "c1(1)", c1e[1], "d1(1)", d1e[1])]
+        for corner, na, a, nb, b in checks:
+            if np.linalg.norm(a - b) > tol * scale:
+                raise ValueError(f"corner {corner} does not match: {na} = {a.tolist()} "
+                                 f"but {nb} = {b.tolist()}")
+        self._corners = {"p00": c0e[0], "p10": c0e[1], "p01": c1e[0], "p11": c1e[1]}
+
+    @property
+    def corners(self):
+        """Dict of the corner points p00, p10, p01, p11 (``p_ij = P(i, j)``)."""
+        return dict(self._corners)
+
+    def _derivs(self, u, v, order):
+        fu, gu = _blend(self._blend, u, order)
+        fv, gv = _blend(self._blend, v, order)
+        C0 = _curve_derivs(self._c0, u, order)
+        C1 = _curve_derivs(self._c1, u, order)
+        D0 = _curve_derivs(self._d0, v, order)
+        D1 = _curve_derivs(self._d1, v, order)
+        c = self._corners
+        out = np.zeros((u.size, order + 1, order + 1, self._dim))
+        for k in range(order + 1):
+            for l in range(order + 1 - k):
+                val = (C0[:, k] * fv[:, l, None] + C1[:, k] * gv[:, l, None]
+                       + D0[:, l] * fu[:, k, None] + D1[:, l] * gu[:, k, None])
+                val -= ((fu[:, k] * fv[:, l])[:, None] * c["p00"]
+                        + (fu[:, k] * gv[:, l])[:, None] * c["p01"]
+                        + (gu[:, k] * fv[:, l])[:, None] * c["p10"]
+                        + (gu[:, k] * gv[:, l])[:, None] * c["p11"])
+                out[:, k, l] = val
+        return out
+
+    def _eval(self, u, v):
+        return self._derivs(u, v, 0)[:, 0, 0]
+
+
+class RuledSurface(Surface):
+    """Ruled (linearly lofted) surface ``S(u, v) = (1 - v) C0(u) + v C1(u)``.
+
+    Parameters
+    ----------
+    c0, c1 : curve or callable
+        The two rails, each reparametrized onto ``u in [0, 1]``.
+    """
+
+    def __init__(self, c0, c1):
+        self._c0 = _as_curve(c0, "c0")
+        self._c1 = _as_curve(c1, "c1")
+        d0 = _curve_derivs(self._c0, np.array([0.0]), 0).shape[-1]
+        d1 = _curve_derivs(self._c1, np.array([0.0]), 0).shape[-1]
+        if d0 != d1:
+            raise ValueError(f"c0 and c1 must share one dimension, got {d0} and {d1}")
+        self._dim = d0
+
+    def _derivs(self, u, v, order):
+        A = _curve_derivs(self._c0, u, order)
+        B = _curve_derivs(self._c1, u, order)
+        out = np.zeros((u.size, order + 1, order + 1, self._dim))
+        out[:, :, 0] = (1.0 - v)[:, None, None] * A + v[:, None, None] * B
+        if order >= 1:
+            out[:, :, 1] = B - A
+        return out
+
+    def _eval(self, u, v):
+        return self._derivs(u, v, 0)[:, 0, 0]
+
+
+# --------------------------------------------------------------------------- bicubic
+
+_BEZ3 = np.array([[1.0, 0.0, 0.0, 0.0],
+                  [-3.0, 3.0, 0.0, 0.0],
+                  [3.0, -6.0, 3.0, 0.0],
+                  [-1.0, 3.0, -3.0, 1.0]])  # [1,u,u²,u³] @ _BEZ3 = Bernstein row
+
+
+class BicubicPatch(Surface):
+    """Bicubic patch ``p(u, v) = sum_{i,j=0..3} k_ij u^i v^j`` on [0, 1]².
+
+    The 16 vector coefficients are found by interpolation through a 4 x 4 grid
+    of points (Lagrange interpolation in each direction).
+
+    Parameters
+    ----------
+    points : (4, 4, dim) float
+        ``points[a, b]`` is the surface point at ``(u_params[a], v_params[b])``.
+    u_params, v_params : (4,) float, optional
+        Distinct parameters in [0, 1]; uniform ``0, 1/3, 2/3, 1`` by default.
+
+    Examples
+    --------
+    >>> g = np.stack(np.meshgrid(np.arange(4.0), np.arange(4.0), indexing="ij"), -1)
+    >>> pts = np.concatenate([g, (g[..., :1] * g[..., 1:]) / 9], axis=-1)
+    >>> patch = BicubicPatch(pts)
+    >>> np.allclose(patch(1 / 3, 2 / 3), pts[1, 2])
+    True
+    """
+
+    def __init__(self, points, u_params=None, v_params=None):
+        try:
+            G = np.array(points, dtype=float)
+        except (TypeError, ValueError):
+            raise TypeError("points must be a numeric array of shape (4, 4, dim)") from None
+        if G.ndim != 3 or G.shape[:2] != (4, 4):
+            raise ValueError(f"points must have shape (4, 4, dim), got {G.shape}")
+        us = self._p4(u_params, "u_params")
+        vs = self._p4(v_params, "v_params")
+        Mu = np.vander(us, 4, increasing=True)
+        Mv = np.vander(vs, 4, increasing=True)
+        K = np.einsum("ia,abd,jb->ijd", np.linalg.inv(Mu), G, np.linalg.inv(Mv))
+        self._set(K)
+
+    @staticmethod
+    def _p4(x, name):
+        if x is None:
+            return np.linspace(0.0, 1.0, 4)
+        t = np.asarray(x, dtype=float).ravel()
+        if t.size != 4 or np.any(t < 0) or np.any(t > 1) or np.unique(t).size != 4:
+            raise ValueError(f"{name} must be 4 distinct values in [0, 1], got {x!r}")
+        return t
+
+    def _set(self, K):
+        K = np.array(K, dtype=float)
+        K.setflags(write=False)
+        self._K = K
+        self._dim = K.shape[2]
+
+    @classmethod
+    def from_coefficients(cls, coefficients):
+        """Patch from the algebraic coefficients ``k_ij``: (4, 4, dim)."""
+        K = np.asarray(coefficients, dtype=float)
+        if K.ndim != 3 or K.shape[:2] != (4, 4):
+            raise ValueError(f"coefficients must have shape (4, 4, dim), got {K.shape}")
+        obj = cls.__new__(cls)
+        obj._set(K)
+        return obj
+
+    @classmethod
+    def hermite(cls, corners, u_tangents, v_tangents, twists):
+        """Ferguson (Hermite) bicubic patch from corner data.
+
+        Parameters
+        ----------
+        corners : (2, 2, dim) float
+            ``corners[i, j] = P(i, j)``.
+        u_tangents, v_tangents : (2, 2, dim) float
+            ``dP/du`` and ``dP/dv`` at the corners.
+        twists : (2, 2, dim) float
+            ``d²P/du dv`` at the corners (zero twists give a Ferguson patch).
+        """
+        arrs = []
+        for a, n in ((corners, "corners"), (u_tangents, "u_tangents"),
+                     (v_tangents, "v_tangents"), (twists, "twists")):
+            x = np.asarray(a, dtype=float)
+            if x.ndim != 3 or x.shape[:2] != (2, 2):
+                raise ValueError(f"{n} must have shape (2, 2, dim), got {x.shape}")
+            arrs.append(x)
+        if len({x.shape for x in arrs}) != 1:
+            raise ValueError("corners, u_tangents, v_tangents and twists must share one shape")
+        P, Pu, Pv, Puv = arrs
+        B = np.empty((4, 4, P.shape[2]))
+        B[:2, :2] = P
+        B[:2, 2:] = Pv
+        B[2:, :2] = Pu
+        B[2:, 2:] = Puv
+        K = np.einsum("ai,abd,bj->ijd", _HERMITE, B, _HERMITE)
+        return cls.from_coefficients(K)
+
+    @property
+    def coefficients(self):
+        """(4, 4, dim) algebraic coefficients ``k_ij``."""
+        return self._K
+
+    def _derivs(self, u, v, order):
+        Pu = _power_derivs(u, order)
+        Pv = _power_derivs(v, order)
+        return np.einsum("nki,ijd,nlj->nkld", Pu, self._K, Pv)
+
+    def _eval(self, u, v):
+        Pu = _power_derivs(u, 0)[:, 0]
+        Pv = _power_derivs(v, 0)[:, 0]
+        return np.einsum("ni,ijd,nj->nd", Pu, self._K, Pv)
+
+    def _grid(self, us, vs):
+        Pu = _power_derivs(us, 0)[:, 0]
+        Pv = _power_derivs(vs, 0)[:, 0]
+        return np.einsum("ai,ijd,bj->abd", Pu, self._K, Pv)
+
+    def bezier_control_points(self):
+        """(4, 4, dim) control net of the same patch as a bicubic Bezier surface."""
+        inv = np.linalg.inv(_BEZ3)
+        return np.einsum("ia,abd,jb->ijd", inv, self._K, inv)
+
+    def isocurve_u(self, u0):
+        """The curve ``v -> S(u0, v)`` as a cubic :class:`Bezier`."""
+        u0 = float(self._params_1d(u0, self._domain_u, "u0")[0])
+        coef = np.einsum("i,ijd->jd", _power_derivs(np.array([u0]), 0)[0, 0], self._K)
+        return Bezier(np.linalg.solve(_BEZ3, coef))
+
+    def isocurve_v(self, v0):
+        """The curve ``u -> S(u, v0)`` as a cubic :class:`Bezier`."""
+        v0 = float(self._params_1d(v0, self._domain_v, "v0")[0])
+        coef = np.einsum("j,ijd->id", _power_derivs(np.array([v0]), 0)[0, 0], self._K)
+        return Bezier(np.linalg.solve(_BEZ3, coef))
