@@ -25,6 +25,7 @@ COMMAND_MODULES = (
     "section",
     "interfere",
     "fea",
+    "render",
 )
 
 

@@ -1,0 +1,70 @@
+"""`implicad render`: a picture of a part or an assembly."""
+
+from __future__ import annotations
+
+import os
+import time
+
+from ..render import STYLES, VIEWS
+
+NAME = "render"
+HELP = "draw a part or an assembly to a PNG picture"
+DESCRIPTION = (
+    "Mesh MODEL and draw it off-screen: shaded, wire-frame, triangles or hidden-line, from one view "
+    "or as a four-view drawing sheet. An assembly file (defining `parts`) draws every part in its "
+    "own colour, pulled apart with --explode."
+)
+
+
+def add_arguments(parser):
+    parser.add_argument("model", metavar="MODEL", help="a .py model file (defining `solid`, `model()` or `parts`) or a .json CSG tree")
+    parser.add_argument("-o", "--output", required=True, help="picture to write (.png)")
+    parser.add_argument("--style", choices=STYLES, default="shaded", help="drawing style (default: shaded)")
+    parser.add_argument("--view", choices=sorted(VIEWS), default="iso", help="camera direction (default: iso)")
+    parser.add_argument("--views", action="store_true", help="a drawing sheet: front, top, right and iso views")
+    parser.add_argument("--resolution", type=int, default=96, help="cells across the longest side for meshing (default: 96)")
+    parser.add_argument("--explode", type=float, default=None, metavar="F",
+                        help="for assemblies: pull parts apart by F times the assembly radius")
+    parser.add_argument("--size", type=int, nargs=2, default=(900, 700), metavar=("W", "H"), help="picture size in pixels")
+
+
+def run(args) -> int:
+    from ..cli import CommandError
+    from ..render import exploded_view, render, render_views
+
+    if not args.output.lower().endswith(".png"):
+        raise CommandError(f"--output: pictures are written as PNG, expected a name ending in .png, got {args.output!r}")
+    if not 8 <= args.resolution <= 1024:
+        raise CommandError(f"--resolution: expected a whole number from 8 to 1024, got {args.resolution}")
+    if args.explode is not None and args.explode < 0:
+        raise CommandError(f"--explode: expected a non-negative number, got {args.explode}")
+    folder = os.path.dirname(os.path.abspath(args.output))
+    if not os.path.isdir(folder):
+        raise CommandError(f"--output: no such directory {folder}")
+
+    from implicit.models import load_assembly, load_model
+
+    import spatial
+
+    started = time.perf_counter()
+    parts = _load_parts(args.model, load_model, load_assembly)
+    meshes = {name: spatial.mesh(solid, resolution=args.resolution) for name, solid in parts.items()}
+    if args.explode is not None and len(meshes) > 1:
+        exploded_view(meshes, args.output, factor=args.explode, style=args.style, window_size=args.size)
+    elif args.views:
+        render_views(meshes if len(meshes) > 1 else next(iter(meshes.values())), args.output,
+                     style=args.style, window_size=args.size)
+    else:
+        render(meshes if len(meshes) > 1 else next(iter(meshes.values())), args.output,
+               style=args.style, view=args.view, window_size=args.size)
+    triangles = sum(m.n_cells for m in meshes.values())
+    print(f"{args.output}: {len(meshes)} part(s), {triangles} triangles, {time.perf_counter() - started:.2f} s")
+    return 0
+
+
+def _load_parts(path, load_model, load_assembly):
+    """Named solids of an assembly file, or the single solid of a part file."""
+    try:
+        return dict(load_assembly(path))
+    except (ValueError, TypeError):
+        return {"part": load_model(path)}
