@@ -22,7 +22,7 @@ import numbers
 
 import numpy as np
 
-from .solid import Solid, as_finite, as_positive, as_vector
+from .solid import Solid, _fmt, as_finite, as_positive, as_vector
 
 __all__ = [
     "Profile",
@@ -306,12 +306,8 @@ class Profile:
             key = msg.split(":", 1)[0]
             raise type(exc)(f"{path}.{msg}" if key in params else f"{path}: {msg}") from None
 
-    def _label(self) -> str:
-        args = ", ".join(f"{k}={v!r}" for k, v in self._params.items())
-        return f"{self.kind}({args})"
-
     def __repr__(self) -> str:
-        inner = [repr(c) for c in self._children] + [f"{k}={v!r}" for k, v in self._params.items()]
+        inner = [repr(c) for c in self._children] + [f"{k}={_fmt(v)}" for k, v in self._params.items()]
         return f"{self.kind}({', '.join(inner)})"
 
 
@@ -526,8 +522,8 @@ class Extrude(Solid):
         return self._profile
 
     def _label(self) -> str:
-        return (f"extrude({self._profile!r}, height={self._hh * 2:g}, center={self._c.tolist()}, "
-                f"axis={self._rot[:, 2].round(12).tolist()})")
+        return (f"extrude({self._profile!r}, height={self._hh * 2:g}, center={_fmt(self._c.tolist())}, "
+                f"axis={_fmt(self._rot[:, 2].round(12).tolist())})")
 
     __repr__ = _label
 
@@ -581,8 +577,8 @@ class Revolve(Solid):
         return self._profile
 
     def _label(self) -> str:
-        return (f"revolve({self._profile!r}, angle={np.degrees(self._alpha):g}, center={self._c.tolist()}, "
-                f"axis={self._rot[:, 2].round(12).tolist()})")
+        return (f"revolve({self._profile!r}, angle={np.degrees(self._alpha):g}, center={_fmt(self._c.tolist())}, "
+                f"axis={_fmt(self._rot[:, 2].round(12).tolist())})")
 
     __repr__ = _label
 
