@@ -82,7 +82,7 @@ CACHED_MIN_POINTS = 2048
 #: Per-bin pruning (binning, bounds per bin) pays from about this size.
 PRUNE_MIN_POINTS = 20_000
 #: Target number of points per bin of the pruning grid.
-POINTS_PER_BIN = 384
+POINTS_PER_BIN = 256
 #: Largest number of bins along one axis.
 MAX_BINS_PER_AXIS = 64
 
@@ -650,9 +650,25 @@ def _build_kernels(numba):
         return run
 
     @njit(cache=False, nogil=True)
+    def bounds_of(pts):
+        lo = np.empty(3)
+        hi = np.empty(3)
+        for a in range(3):
+            lo[a] = pts[0, a]
+            hi[a] = pts[0, a]
+        for i in range(pts.shape[0]):
+            for a in range(3):
+                v = pts[i, a]
+                lo[a] = min(lo[a], v)
+                hi[a] = max(hi[a], v)
+        return lo, hi
+
+    @njit(cache=False, nogil=True)
     def bin_points(pts, lo, scale, g):
+        # Counting sort of the points by grid cell: sorted copy, permutation,
+        # start of every non-empty bin and the tight box of its points.
         n = pts.shape[0]
-        cell = np.empty(n, np.int64)
+        cell = np.empty(n, np.int32)
         counts = np.zeros(g * g * g + 1, np.int64)
         for i in range(n):
             ix = min(max(int((pts[i, 0] - lo[0]) * scale[0]), 0), g - 1)
@@ -667,36 +683,49 @@ def _build_kernels(numba):
                 nonempty += 1
             counts[c + 1] += counts[c]
         starts = np.empty(nonempty + 1, np.int64)
-        dense = np.empty(g * g * g, np.int64)
         j = 0
         for c in range(g * g * g):
             if counts[c + 1] > counts[c]:
                 starts[j] = counts[c]
-                dense[c] = j
                 j += 1
         starts[nonempty] = n
         fill = counts[:-1].copy()
-        order = np.empty(n, np.int64)
-        lo_box = np.full((nonempty, 3), np.inf)
-        hi_box = np.full((nonempty, 3), -np.inf)
+        order = np.empty(n, np.int32)
+        sorted_pts = np.empty((n, 3))
         for i in range(n):
             c = cell[i]
-            order[fill[c]] = i
-            fill[c] += 1
-            b = dense[c]
+            k = fill[c]
+            order[k] = i
+            sorted_pts[k, 0] = pts[i, 0]
+            sorted_pts[k, 1] = pts[i, 1]
+            sorted_pts[k, 2] = pts[i, 2]
+            fill[c] = k + 1
+        lo_box = np.empty((nonempty, 3))
+        hi_box = np.empty((nonempty, 3))
+        for b in range(nonempty):
             for a in range(3):
-                v = pts[i, a]
-                if v < lo_box[b, a]:
-                    lo_box[b, a] = v
-                if v > hi_box[b, a]:
-                    hi_box[b, a] = v
-        return order, starts, lo_box, hi_box
+                vmin = sorted_pts[starts[b], a]
+                vmax = vmin
+                for k in range(starts[b] + 1, starts[b + 1]):
+                    v = sorted_pts[k, a]
+                    vmin = min(vmin, v)
+                    vmax = max(vmax, v)
+                lo_box[b, a] = vmin
+                hi_box[b, a] = vmax
+        return sorted_pts, order, starts, lo_box, hi_box
 
-    return make_run, bin_points
+    @njit(cache=False, nogil=True)
+    def unsort(values, order):
+        out = np.empty(values.shape[0])
+        for k in range(values.shape[0]):
+            out[order[k]] = values[k]
+        return out
+
+    return make_run, bin_points, unsort, bounds_of
 
 
 def _kernel(name: str):
-    """The compiled kernel `name` ("serial", "parallel" or "bin"), or None
+    """The compiled kernel `name` ("serial", "parallel", "bin", "unsort"), or None
     when numba is not importable."""
     kernel = _KERNELS.get(name)
     if kernel is not None:
@@ -707,12 +736,18 @@ def _kernel(name: str):
     with _KERNEL_LOCK:
         if "factory" not in _KERNELS:
             _KERNELS["factory"] = _build_kernels(numba)
-        make_run, bin_points = _KERNELS["factory"]
+        make_run, bin_points, unsort, bounds_of = _KERNELS["factory"]
         if name not in _KERNELS:
             start = time.perf_counter()
             if name == "bin":
                 kernel = bin_points
                 kernel(np.zeros((1, 3)), np.zeros(3), np.ones(3), 1)
+            elif name == "unsort":
+                kernel = unsort
+                kernel(np.zeros(1), np.zeros(1, np.int32))
+            elif name == "bounds":
+                kernel = bounds_of
+                kernel(np.zeros((1, 3)))
             else:
                 kernel = make_run(name == "parallel")
                 tape = Tape(Difference(Sphere(1.0), Cone(1.0, 1.0), Union(Box(), Torus(1.0, 0.5))))
@@ -870,6 +905,8 @@ class CompiledSolid:
         if self.backend == "numba":
             _kernel("parallel" if self.parallel else "serial")
             _kernel("bin")
+            _kernel("unsort")
+            _kernel("bounds")
         return self
 
     def __call__(self, points, *, prune: bool | None = None) -> np.ndarray:
@@ -893,13 +930,13 @@ class CompiledSolid:
         kernel = _kernel("parallel" if self.parallel else "serial")
         if not prune or not self.tape.flags:
             return _call(kernel, self.tape, flat, None, None, None, self.nthreads)
-        lo = flat.min(axis=0)
-        hi = flat.max(axis=0)
+        lo, hi = _kernel("bounds")(flat)
         g = int(min(MAX_BINS_PER_AXIS, max(1, round((n / POINTS_PER_BIN) ** (1.0 / 3.0)))))
         ext = np.maximum(hi - lo, 1e-300)
-        order, starts, box_lo, box_hi = _kernel("bin")(flat, lo, g / ext * (1.0 - 1e-12), g)
+        sorted_pts, order, starts, box_lo, box_hi = _kernel("bin")(flat, lo, g / ext * (1.0 - 1e-12), g)
         active = _flags(self.tape.flags, box_lo, box_hi)
-        return _call(kernel, self.tape, flat, order, starts, active, self.nthreads)
+        values = _call(kernel, self.tape, sorted_pts, np.empty(0, np.int64), starts, active, self.nthreads)
+        return _kernel("unsort")(values, order)
 
     def __repr__(self) -> str:
         return (f"CompiledSolid({self.solid.kind}, nodes={self.solid.count_nodes()}, "
