@@ -960,8 +960,26 @@ def supports(solid: Solid) -> bool:
     return all(type(node) in RULES for node in solid.walk())
 
 
-_COMPILED: "weakref.WeakKeyDictionary[Solid, CompiledSolid]" = weakref.WeakKeyDictionary()
-_COMPILED_PARALLEL: "weakref.WeakKeyDictionary[Solid, CompiledSolid]" = weakref.WeakKeyDictionary()
+# Compiled trees by (id of the solid, parallel); entries leave with their solid.
+# (Solids refuse ==, so they cannot key a WeakKeyDictionary.)
+_COMPILED: dict[tuple[int, bool], tuple[weakref.ref, "CompiledSolid"]] = {}
+
+
+def _cached(solid: Solid, parallel: bool):
+    entry = _COMPILED.get((id(solid), parallel))
+    if entry is not None and entry[0]() is solid:
+        return entry[1]
+    return None
+
+
+def _store(solid: Solid, parallel: bool, compiled: "CompiledSolid") -> None:
+    key = (id(solid), parallel)
+
+    def forget(_ref, key=key, table=_COMPILED):
+        entry = table.get(key)
+        if entry is not None and entry[0] is _ref:
+            del table[key]
+    _COMPILED[key] = (weakref.ref(solid, forget), compiled)
 
 
 def compile_solid(solid: Solid, *, parallel: bool = False, warm: bool = True) -> CompiledSolid:
@@ -992,11 +1010,10 @@ def compile_solid(solid: Solid, *, parallel: bool = False, warm: bool = True) ->
     """
     if not isinstance(solid, Solid):
         raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
-    table = _COMPILED_PARALLEL if parallel else _COMPILED
-    compiled = table.get(solid)
+    compiled = _cached(solid, bool(parallel))
     if compiled is None:
         compiled = CompiledSolid(solid, parallel=parallel)
-        table[solid] = compiled
+        _store(solid, bool(parallel), compiled)
     if warm:
         compiled.warm()
     return compiled

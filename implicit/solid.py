@@ -42,6 +42,10 @@ INFINITE_BOUNDS = (np.full(3, -np.inf), np.full(3, np.inf))
 # in the processor's cache instead of streaming whole arrays through memory.
 EVAL_CHUNK = 32768
 
+# Calls with at least this many points may take the compiled fast path
+# (implicit.compile.fast_evaluate decides; it needs numba).
+FAST_PATH_MIN_POINTS = 2048
+
 
 # ---------------------------------------------------------------------------
 # validation helpers shared by every module of the package
@@ -311,6 +315,14 @@ class Solid:
         shape = pts.shape[:-1]
         flat = np.ascontiguousarray(pts.reshape(-1, 3))
         n = flat.shape[0]
+        if n >= FAST_PATH_MIN_POINTS:
+            # Large calls go through the compiled, pruned evaluation
+            # (implicit.compile); None means numpy is used (no numba, or a node
+            # kind without a fast-path rule).
+            from .compile import fast_evaluate
+            fast = fast_evaluate(self, flat)
+            if fast is not None:
+                return fast.reshape(shape)
         if n <= EVAL_CHUNK:
             out = self._evaluate(flat)
         else:
@@ -322,6 +334,11 @@ class Solid:
     def evaluate(self, points) -> np.ndarray:
         """Alias of calling the solid: signed distances at `points`."""
         return self(points)
+
+    def compiled(self, *, parallel: bool = False):
+        """This tree compiled for fast evaluation (`implicit.compile.compile_solid`)."""
+        from .compile import compile_solid
+        return compile_solid(self, parallel=parallel)
 
     def _evaluate(self, p: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError
