@@ -579,7 +579,7 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
     nclus = max(int(round(1.1547 * area / size**2)), 20)
     with warnings.catch_warnings():
         # pyacvd 0.4 uses a pyvista accessor that pyvista 0.49 deprecates.
-        warnings.simplefilter("ignore", DeprecationWarning)
+        warnings.filterwarnings("ignore", module="pyacvd")
         clus = pyacvd.Clustering(src)
         # Clustering needs many input points per cluster to make good cells.
         nsub = 0

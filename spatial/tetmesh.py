@@ -118,7 +118,7 @@ def _score(d, min_dihedral, max_dihedral):
     return np.minimum(lo, hi)
 
 
-def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, seed=0):
+def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, seed=0, solid=None, slide=None):
     """Smooth movable vertices of bad elements until no element is bad or nothing moves.
 
     Each round takes an independent set of candidate vertices (no two in one
@@ -175,6 +175,11 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
             scale = (0.05 + 0.25 * (k % 4) / 3.0) * edge
             trials.append(cur + rng.normal(size=cur.shape) * scale[:, None] / np.sqrt(3.0))
         trials = np.stack(trials)  # (t, k, 3)
+        if slide is not None:
+            sl = slide[verts]
+            if sl.any():
+                tv = trials[1:, sl].reshape(-1, 3)
+                trials[1:, sl] = project_to_surface(solid, tv, steps=3).reshape(trials.shape[0] - 1, -1, 3)
         best_score = None
         best = np.zeros(verts.size, dtype=np.intp)
         for j in range(trials.shape[0]):
@@ -405,8 +410,8 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
     if len(elems) == 0:
         raise ValueError("solid: TetGen made no elements (the surface may intersect itself)")
     vol = tet_volumes(nodes, elems)
-    if np.any(vol < 0) and np.all(vol <= 0):
-        elems = elems[:, [0, 2, 1, 3]]
+    neg = vol < 0
+    elems[neg] = elems[neg][:, [0, 2, 1, 3]]
     info = {"tetgen_switches": switches, "steiner_cap": cap, "tetgen_points": int(len(nodes)),
             "surface_points": int(len(spts))}
     cap_hit = len(nodes) - len(spts) >= cap
@@ -425,6 +430,15 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
         nodes = moved
         info["boundary_steiner_points"] = int(steiner.size)
     nodes = _improve(nodes, elems, movable, min_dihedral, max_dihedral, seed=seed)
+    d = dihedral_angles(nodes, elems)
+    if np.any(_score(d, min_dihedral, max_dihedral) < min_dihedral):
+        # Slivers lying on the boundary: let boundary vertices off the sharp edges slide on the surface.
+        _, _, fv = FacetField(solid)(nodes)
+        on_feature = (np.abs(fv) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
+        slide = ~movable & ~on_feature
+        nodes = _improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 1,
+                         solid=solid, slide=slide)
+        info["boundary_slid"] = True
     if np.any(tet_volumes(nodes, elems) <= 0):
         raise ValueError("tet_mesh: an element is inverted after meshing (zero or negative volume)")
     tets = elems

@@ -1,0 +1,286 @@
+"""Files for analysts: Gmsh, Abaqus / CalculiX, VTK, Nastran, and boundary STL / PLY.
+
+Every writer works on a `TetMesh` and writes atomically (a temporary file in
+the same folder, then ``os.replace``), so a failure never leaves half a file.
+Named boundary regions travel as the format allows:
+
+========  =====================  ==============================================
+format    node sets              face (element side) sets
+========  =====================  ==============================================
+.msh      (nodes of the groups)  physical groups of boundary triangles
+.inp      ``*NSET``              ``*ELSET`` per side + ``*SURFACE, TYPE=ELEMENT``
+.vtu      point data masks       ``region`` cell data on boundary triangles
+.bdf      ``SET1`` cards         (none: comments name the sets)
+.stl/.ply (none)                 (none: the boundary triangles only)
+========  =====================  ==============================================
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import tempfile
+
+import numpy as np
+
+__all__ = ["FEA_FORMATS", "fea_format", "write_fea", "to_meshio", "set_name"]
+
+#: Extension -> description of the formats `write_fea` knows.
+FEA_FORMATS = {
+    ".msh": "Gmsh mesh (4.1, or 2.2 with format_version='2.2')",
+    ".inp": "Abaqus / CalculiX input",
+    ".vtu": "VTK unstructured grid",
+    ".bdf": "Nastran bulk data (large-field GRID*, free-field CTETRA)",
+    ".nas": "Nastran bulk data (as .bdf)",
+    ".stl": "boundary triangles, STL",
+    ".ply": "boundary triangles, PLY",
+}
+
+
+def fea_format(path) -> str:
+    """The extension of `path` if `write_fea` knows it, else a `ValueError` listing the known ones."""
+    ext = os.path.splitext(os.fspath(path))[1].lower()
+    if ext not in FEA_FORMATS:
+        raise ValueError(f"output: unknown extension {ext or '(none)'!r}; expected one of {', '.join(FEA_FORMATS)}")
+    return ext
+
+
+def set_name(name: str) -> str:
+    """A set name every format accepts: letters, digits and underscores, starting with a letter.
+
+    Examples
+    --------
+    >>> set_name("box_1.+x"), set_name("cylinder_2.wall")
+    ('box_1_px', 'cylinder_2_wall')
+    """
+    out = name.replace("+", "p").replace("-", "m")
+    out = re.sub(r"[^A-Za-z0-9_]", "_", out)
+    if not out or not out[0].isalpha():
+        out = "s_" + out
+    return out
+
+
+def _cell_type(mesh):
+    return "tetra" if mesh.order == 1 else "tetra10"
+
+
+def _boundary_cells(mesh):
+    """Boundary triangles with their mid nodes for 10-node meshes (meshio triangle6 order)."""
+    from .tetmesh import _side_nodes
+
+    nodes = _side_nodes(mesh.tets, mesh.boundary_element, mesh.boundary_side)
+    if mesh.order == 2:
+        # Side mids are on edges (c0c1, c1c2, c2c0) in _SIDE_MIDS order: reorder to triangle6.
+        return "triangle6", nodes
+    return "triangle", nodes
+
+
+def _region_ids(mesh):
+    """Region number (1..) of each boundary face and the names in order."""
+    names = [k for k in mesh.face_sets if k != "surface"]
+    region = np.zeros(len(mesh.boundary), dtype=np.int64)
+    for i, k in enumerate(names):
+        region[mesh.face_sets[k]] = i + 1
+    return region, names
+
+
+def to_meshio(mesh, *, with_boundary: bool = True):
+    """A `meshio.Mesh` of `mesh`: elements, boundary triangles, node and element sets.
+
+    Parameters
+    ----------
+    mesh : TetMesh
+    with_boundary : bool
+        Add the boundary triangles as a second cell block.
+    """
+    import meshio
+
+    cells = [(_cell_type(mesh), np.asarray(mesh.tets))]
+    region, names = _region_ids(mesh)
+    cell_sets = {}
+    if with_boundary:
+        tri_type, tri = _boundary_cells(mesh)
+        cells.append((tri_type, tri))
+        for i, k in enumerate(names):
+            cell_sets[set_name(k)] = [np.zeros(0, dtype=np.int64), np.nonzero(region == i + 1)[0]]
+    point_sets = {set_name(k): np.asarray(v) for k, v in mesh.node_sets.items()}
+    return meshio.Mesh(np.asarray(mesh.points), cells, point_sets=point_sets, cell_sets=cell_sets)
+
+
+def _atomic(path, write):
+    """Call ``write(tmp_path)`` then move the result onto `path`."""
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    ext = os.path.splitext(path)[1]
+    fd, tmp = tempfile.mkstemp(prefix=".implicad-", suffix=ext, dir=folder)
+    os.close(fd)
+    try:
+        write(tmp)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _write_gmsh(mesh, path, version):
+    import meshio
+
+    tri_type, tri = _boundary_cells(mesh)
+    region, names = _region_ids(mesh)
+    cells = [(_cell_type(mesh), np.asarray(mesh.tets)), (tri_type, tri)]
+    vol_tag = len(names) + 1
+    field_data = {set_name(k): np.array([i + 1, 2]) for i, k in enumerate(names)}
+    field_data["volume"] = np.array([vol_tag, 3])
+    phys = [np.full(len(mesh.tets), vol_tag, dtype=np.int64), region]
+    geom = [np.ones(len(mesh.tets), dtype=np.int64), region]
+    # Gmsh 4 classifies every node on an entity: the volume, or the boundary region of one of its faces.
+    dim_tags = np.tile(np.array([3, 1], dtype=np.int64), (len(mesh.points), 1))
+    dim_tags[tri.reshape(-1)] = np.stack([np.full(tri.size, 2), np.repeat(region, tri.shape[1])], axis=1)
+    m = meshio.Mesh(np.asarray(mesh.points), cells,
+                    cell_data={"gmsh:physical": phys, "gmsh:geometrical": geom},
+                    point_data={"gmsh:dim_tags": dim_tags} if version != "2.2" else {},
+                    field_data=field_data)
+    fmt = "gmsh22" if version == "2.2" else "gmsh"
+    _atomic(path, lambda tmp: meshio.write(tmp, m, file_format=fmt, binary=False))
+
+
+def _write_inp(mesh, path):
+    import meshio
+
+    m = to_meshio(mesh, with_boundary=False)
+    # Element sides per region: *ELSET name_S<k> and *SURFACE, TYPE=ELEMENT.
+    region, names = _region_ids(mesh)
+    lines = []
+    for i, k in enumerate(["surface"] + names):
+        sel = np.arange(len(region)) if k == "surface" else np.nonzero(region == i)[0]
+        nm = set_name(k).upper()
+        entries = []
+        for s in range(4):
+            el = mesh.boundary_element[sel][mesh.boundary_side[sel] == s] + 1
+            if el.size == 0:
+                continue
+            es = f"{nm}_S{s + 1}"
+            lines.append(f"*ELSET, ELSET={es}")
+            lines.extend(", ".join(str(v) for v in row) for row in np.array_split(el, max(1, -(-el.size // 16))))
+            entries.append(f"{es}, S{s + 1}")
+        lines.append(f"*SURFACE, NAME={nm}_FACES, TYPE=ELEMENT")
+        lines.extend(entries)
+
+    def write(tmp):
+        meshio.write(tmp, m, file_format="abaqus")
+        with open(tmp, "a", encoding="ascii") as fh:
+            fh.write("\n".join(lines) + "\n")
+
+    _atomic(path, write)
+
+
+def _write_vtu(mesh, path):
+    import meshio
+
+    tri_type, tri = _boundary_cells(mesh)
+    region, names = _region_ids(mesh)
+    point_data = {}
+    for k, v in mesh.node_sets.items():
+        mask = np.zeros(len(mesh.points), dtype=np.uint8)
+        mask[v] = 1
+        point_data[f"nodeset_{set_name(k)}"] = mask
+    m = meshio.Mesh(np.asarray(mesh.points), [(_cell_type(mesh), np.asarray(mesh.tets)), (tri_type, tri)],
+                    point_data=point_data, cell_data={"region": [np.zeros(len(mesh.tets), dtype=np.int64), region]})
+    _atomic(path, lambda tmp: meshio.write(tmp, m, file_format="vtu"))
+
+
+def _write_bdf(mesh, path):
+    """Free-field Nastran: large-field GRID* cards (16-character numbers), CTETRA, SET1."""
+    pts = np.asarray(mesh.points, dtype=np.float64)
+    ids = np.arange(1, len(pts) + 1)
+    out = ["$ implicad tetrahedral mesh", "BEGIN BULK"]
+    # Large-field fixed format GRID*: 8-character key, 16-character fields (id, cp, x1, x2),
+    # then a continuation line holding x3.  "%16.9e" is exactly 16 characters for |x| < 1e100.
+    xs = [np.char.mod("%16.9e", pts[:, i]) for i in range(3)]
+    head = np.char.add(np.char.add("GRID*   ", np.char.rjust(ids.astype(str), 16)), " " * 16)
+    grid = np.char.add(np.char.add(np.char.add(head, xs[0]), xs[1]), np.char.add("\n*       ", xs[2]))
+    out.extend(grid.tolist())
+    tets = np.asarray(mesh.tets) + 1
+    eids = np.arange(1, len(tets) + 1).astype(str)
+    cols = [tets[:, j].astype(str) for j in range(tets.shape[1])]
+    head = np.char.add(np.char.add("CTETRA,", eids), ",1")
+    for j in range(min(6, tets.shape[1])):
+        head = np.char.add(np.char.add(head, ","), cols[j])
+    if tets.shape[1] == 10:
+        tail = np.char.add("\n+", "")
+        for j in range(6, 10):
+            tail = np.char.add(np.char.add(tail, ","), cols[j])
+        head = np.char.add(head, tail)
+    out.extend(head.tolist())
+    out.append("PSOLID,1,1")
+    for i, (k, v) in enumerate(mesh.node_sets.items()):
+        out.append(f"$ node set {i + 1}: {set_name(k)}")
+        vals = (np.asarray(v) + 1).astype(str)
+        rows = [",".join(vals[j:j + 7]) for j in range(0, len(vals), 7)]
+        out.append(f"SET1,{i + 1}," + rows[0])
+        out.extend("+," + r for r in rows[1:])
+    out.append("ENDDATA")
+
+    def write(tmp):
+        with open(tmp, "w", encoding="ascii") as fh:
+            fh.write("\n".join(out) + "\n")
+
+    _atomic(path, write)
+
+
+def _write_surface(mesh, path):
+    import pyvista as pv
+
+    surf = pv.PolyData.from_regular_faces(np.asarray(mesh.points), np.asarray(mesh.boundary)).clean()
+    _atomic(path, lambda tmp: surf.save(tmp))
+
+
+def write_fea(mesh, path, *, format_version: str = "4.1") -> str:
+    """Write a `TetMesh` to `path`; the extension picks the format (`FEA_FORMATS`).
+
+    Parameters
+    ----------
+    mesh : TetMesh
+    path : str or os.PathLike
+    format_version : {"4.1", "2.2"}
+        Gmsh file version (ignored for other formats).
+
+    Returns
+    -------
+    str
+        The path written.
+
+    Raises
+    ------
+    TypeError
+        When `mesh` is not a TetMesh.
+    ValueError
+        On an unknown extension or Gmsh version (before anything is written).
+
+    Examples
+    --------
+    >>> write_fea(mesh, "part.inp")                 # doctest: +SKIP
+    'part.inp'
+    """
+    from .tetmesh import TetMesh
+
+    if not isinstance(mesh, TetMesh):
+        raise TypeError(f"mesh: expected a TetMesh, got {type(mesh).__name__}")
+    ext = fea_format(path)
+    if format_version not in ("4.1", "2.2"):
+        raise ValueError(f"format_version: expected '4.1' or '2.2', got {format_version!r}")
+    if ext == ".msh":
+        _write_gmsh(mesh, path, format_version)
+    elif ext == ".inp":
+        _write_inp(mesh, path)
+    elif ext == ".vtu":
+        _write_vtu(mesh, path)
+    elif ext in (".bdf", ".nas"):
+        _write_bdf(mesh, path)
+    else:
+        _write_surface(mesh, path)
+    return os.fspath(path)
