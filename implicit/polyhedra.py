@@ -38,7 +38,7 @@ __all__ = [
 ]
 
 
-def triangle_distance(points: np.ndarray, tris: np.ndarray) -> np.ndarray:
+def triangle_distance(points: np.ndarray, tris: np.ndarray, edges: np.ndarray | None = None) -> np.ndarray:
     """Unsigned distance from each point to the nearest of many triangles.
 
     Parameters
@@ -46,6 +46,10 @@ def triangle_distance(points: np.ndarray, tris: np.ndarray) -> np.ndarray:
     points : (n, 3) float ndarray
     tris : (t, 3, 3) float ndarray
         Triangles as three vertices each.
+    edges : (e, 2, 3) float ndarray, optional
+        The segments to test when a projection falls outside every triangle
+        (default: the three edges of every triangle).  A polyhedron passes
+        its true edges only, without shared duplicates and face diagonals.
 
     Returns
     -------
@@ -54,36 +58,55 @@ def triangle_distance(points: np.ndarray, tris: np.ndarray) -> np.ndarray:
     Notes
     -----
     For every (point, triangle) pair at once: the distance to the triangle's
-    plane when the projection falls inside (barycentric test), else the
-    distance to the nearest of its three edges.
+    plane when the projection falls inside (barycentric test); every other
+    nearest point lies on an edge.
     """
     a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]              # (t, 3)
     ab, ac = b - a, c - a
     nrm = np.cross(ab, ac)
     nrm_len = np.linalg.norm(nrm, axis=1)
     unit = nrm / np.where(nrm_len > 0, nrm_len, 1.0)[:, None]
-    # Barycentric coordinates of the projection.
     d00 = np.einsum("ij,ij->i", ab, ab)
     d01 = np.einsum("ij,ij->i", ab, ac)
     d11 = np.einsum("ij,ij->i", ac, ac)
     denom = d00 * d11 - d01 * d01
     denom = np.where(denom > 0, denom, 1.0)
-    ap = points[:, None, :] - a[None, :, :]                  # (n, t, 3)
-    d20 = np.einsum("ntk,tk->nt", ap, ab)
-    d21 = np.einsum("ntk,tk->nt", ap, ac)
+    # Dot products with the point minus vertex a, as p . x - a . x: (n, t) arrays only.
+    d20 = points @ ab.T - np.einsum("ij,ij->i", a, ab)
+    d21 = points @ ac.T - np.einsum("ij,ij->i", a, ac)
     v = (d11 * d20 - d01 * d21) / denom
     w = (d00 * d21 - d01 * d20) / denom
     inside = (v >= 0) & (w >= 0) & (v + w <= 1) & (nrm_len > 0)
-    plane = np.abs(np.einsum("ntk,tk->nt", ap, unit))
-    best = np.where(inside, plane * plane, np.inf)
-    for p0, p1 in ((a, b), (b, c), (c, a)):
-        e = p1 - p0
-        ee = np.einsum("ij,ij->i", e, e)
-        w0 = points[:, None, :] - p0[None, :, :]
-        t = np.clip(np.einsum("ntk,tk->nt", w0, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
-        diff = w0 - t[..., None] * e
-        best = np.minimum(best, np.einsum("ntk,ntk->nt", diff, diff))
-    return np.sqrt(best.min(axis=1))
+    plane = points @ unit.T - np.einsum("ij,ij->i", a, unit)
+    best = np.where(inside, plane * plane, np.inf).min(axis=1)
+    if edges is None:
+        edges = np.concatenate([np.stack([a, b], 1), np.stack([b, c], 1), np.stack([c, a], 1)])
+    p0 = edges[:, 0]
+    e = edges[:, 1] - p0
+    ee = np.einsum("ij,ij->i", e, e)
+    pp = np.einsum("ij,ij->i", points, points)[:, None]
+    t = np.clip((points @ e.T - np.einsum("ij,ij->i", p0, e)) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
+    # |p - p0 - t e|^2 expanded: |p - p0|^2 - 2 t (p - p0).e + t^2 |e|^2.
+    pq = pp - 2.0 * (points @ p0.T) + np.einsum("ij,ij->i", p0, p0)
+    pe = points @ e.T - np.einsum("ij,ij->i", p0, e)
+    seg = np.maximum(pq - 2.0 * t * pe + t * t * ee, 0.0)
+    best = np.minimum(best, seg.min(axis=1))
+    return np.sqrt(best)
+
+
+def _hull_edges(hull) -> np.ndarray:
+    """True edges ``(e, 2, 3)`` of a convex hull: each once, no face diagonals."""
+    simplices, neighbors, eq = hull.simplices, hull.neighbors, hull.equations
+    out = []
+    for k in range(3):
+        other = neighbors[:, k]
+        keep = np.arange(len(simplices)) < other
+        coplanar = np.all(np.isclose(eq, eq[other], rtol=0, atol=1e-10), axis=1)
+        keep &= ~coplanar
+        pair = np.delete(simplices, k, axis=1)[keep]
+        out.append(pair)
+    pairs = np.concatenate(out)
+    return hull.points[pairs]
 
 
 def _polytope(normals, offsets, name):
@@ -124,18 +147,19 @@ def _polytope(normals, offsets, name):
         hull = ConvexHull(verts)
     except QhullError as exc:  # pragma: no cover - guarded by the LP checks
         raise ValueError(f"{name}: could not build the polyhedron ({str(exc).splitlines()[0]})") from None
-    verts = verts[np.unique(hull.simplices)]
     tris = hull.points[hull.simplices]
-    return verts, tris
+    edges = _hull_edges(hull)
+    verts = verts[np.unique(hull.simplices)]
+    return verts, tris, edges
 
 
 class _Polytope(_Primitive):
     """Convex polyhedron from unit normals and plane offsets (exact field)."""
 
-    __slots__ = ("_n", "_d", "_tris", "_verts")
+    __slots__ = ("_n", "_d", "_tris", "_verts", "_edges")
 
     def _setup(self, params, normals, offsets, name):
-        verts, tris = _polytope(normals, offsets, name)
+        verts, tris, edges = _polytope(normals, offsets, name)
         # Pad by rounding error so that the bounds stay conservative.
         pad = 1e-12 * max(1.0, float(np.abs(verts).max()))
         super().__init__(params, (verts.min(axis=0) - pad, verts.max(axis=0) + pad))
@@ -143,6 +167,7 @@ class _Polytope(_Primitive):
         object.__setattr__(self, "_d", offsets)
         object.__setattr__(self, "_tris", tris)
         object.__setattr__(self, "_verts", verts)
+        object.__setattr__(self, "_edges", edges)
 
     @property
     def vertices(self) -> np.ndarray:
@@ -159,7 +184,7 @@ class _Polytope(_Primitive):
         out = planes.copy()
         outside = planes > 0
         if outside.any():
-            out[outside] = triangle_distance(p[outside], self._tris)
+            out[outside] = triangle_distance(p[outside], self._tris, self._edges)
         return out
 
 
