@@ -508,12 +508,12 @@ def _octree_raw(tree, solid) -> tuple[_Raw, float]:
 # ---------------------------------------------------------------------------
 
 def _default_mesher():
-    try:
-        import spatial
-        mesher = getattr(spatial, "mesh")
-    except (ImportError, AttributeError) as exc:  # pragma: no cover - during development only
-        raise ImportError("mass_properties of a Solid needs spatial.mesh (the boundary mesher)") from exc
-    return lambda solid, h: mesher(solid, voxel_size=h)
+    """``mesher(solid, h) -> PolyData``: `spatial.boundary.mesh` at cell size h."""
+    from .boundary import mesh
+
+    def mesher(solid, h):
+        return mesh(solid, voxel_size=h, progress=False)
+    return mesher
 
 
 def shell_correction(solid, points, triangles, *, center) -> np.ndarray:
@@ -556,6 +556,8 @@ def shell_correction(solid, points, triangles, *, center) -> np.ndarray:
 
 def _solid_level(solid, h, c0, mesher, correct=True) -> np.ndarray:
     mesh = mesher(solid, h)
+    if mesh.n_cells == 0:     # a feature thinner than this level's cells
+        return np.zeros(14)
     pts, tri = _faces_array(mesh)
     raw = mesh_moments(pts, tri, center=c0)
     vec = raw.vector()
@@ -598,8 +600,12 @@ def _extrapolate(vecs):
     plain = np.abs(q1 - q2) / 3.0
     err = np.maximum(SAFETY * np.abs(r1 - r2), plain / 16.0)
     # Areas converge only as h at sharp edges (marching cubes bevels them):
-    # bound the area by the sum of the last two differences as well.
-    err[13] = max(err[13], SAFETY * (abs(q1[13] - q2[13]) + abs(q2[13] - q4[13])))
+    # unless the differences shrink like h^2 and the extrapolations agree,
+    # bound the area by twice the sum of the last two differences.
+    d1, d2 = abs(q1[13] - q2[13]), abs(q2[13] - q4[13])
+    second_order = 3.3 * d1 <= d2 <= 5.0 * d1 and abs(r1[13] - r2[13]) <= 0.12 * d1
+    if not second_order:
+        err[13] = max(err[13], 2.0 * (d1 + d2))
     return r1, err
 
 
