@@ -53,12 +53,14 @@ def tp_derivs(Uu, p, Uv, q, P, u, v, du, dv):
     else:
         Bv = ders_basis_funs(Uv, q, sv, v, dv)
     iu = su[:, None] - p + np.arange(p + 1)
-    out = np.zeros((u.size, du + 1, dv + 1, D))
-    for j in range(q + 1):
-        col = P[iu, (sv - q + j)[:, None]]  # (N, p+1, D)
-        tmp = np.einsum("nki,nid->nkd", Bu, col)
-        out += Bv[:, None, :, j, None] * tmp[:, :, None, :]
-    return out
+    iv = sv[:, None] - q + np.arange(q + 1)
+    flat = np.ascontiguousarray(P).reshape(nu * nv, D)
+    idx = (iu[:, :, None] * nv + iv[:, None, :]).reshape(-1)
+    G = np.take(flat, idx, axis=0).reshape(u.size, p + 1, (q + 1) * D)
+    T = np.matmul(Bu, G).reshape(u.size, du + 1, q + 1, D)      # (N, k, j, D)
+    T = np.transpose(T, (0, 1, 3, 2))                            # (N, k, D, j)
+    out = np.matmul(T, np.transpose(Bv, (0, 2, 1))[:, None])     # (N, k, D, l)
+    return np.transpose(out, (0, 1, 3, 2))
 
 
 class BSplineSurface(Surface):
