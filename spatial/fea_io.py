@@ -137,7 +137,8 @@ def _write_gmsh(mesh, path, version):
     field_data["volume"] = np.array([vol_tag, 3])
     phys = [np.full(len(mesh.tets), vol_tag, dtype=np.int64), region]
     geom = [np.ones(len(mesh.tets), dtype=np.int64), region]
-    # Gmsh 4 classifies every node on an entity: the volume, or the boundary region of one of its faces.
+    # Gmsh 4 classifies every node on an entity: the volume, or the boundary region of one of
+    # its faces (meshio then writes the nodes grouped by entity, so their order changes).
     dim_tags = np.tile(np.array([3, 1], dtype=np.int64), (len(mesh.points), 1))
     dim_tags[tri.reshape(-1)] = np.stack([np.full(tri.size, 2), np.repeat(region, tri.shape[1])], axis=1)
     m = meshio.Mesh(np.asarray(mesh.points), cells,
