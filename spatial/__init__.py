@@ -1,1 +1,7 @@
 """implicad's spatial side: cells, grids, meshes, analysis, files and the command line."""
+
+from .octree import EMPTY, FULL, BOUNDARY, Octree  # noqa: F401
+from .grid import OccupancyGrid  # noqa: F401
+from .boundary import mesh  # noqa: F401
+from .io import save_mesh, load_mesh, mesh_to_solid, save_vdb, load_vdb  # noqa: F401
+from .mass import MassProperties, mass_properties  # noqa: E402,F401

@@ -1,0 +1,29 @@
+"""Shared fixtures.
+
+`requires_openvdb`: tests that need Debian's pyopenvdb take this fixture.  They
+are skipped (with the reason) when the module is missing, EXCEPT when the
+environment variable ``CI=true``: there a missing pyopenvdb fails the test.
+"""
+
+import os
+
+import pytest
+
+
+def _openvdb_or_reason():
+    try:
+        import pyopenvdb
+    except ImportError as exc:
+        return None, f"needs Debian's python3-openvdb (module pyopenvdb): {exc}"
+    return pyopenvdb, ""
+
+
+@pytest.fixture
+def requires_openvdb():
+    """The pyopenvdb module; skip without it, fail without it when CI=true."""
+    module, reason = _openvdb_or_reason()
+    if module is None:
+        if os.environ.get("CI", "").strip().lower() == "true":
+            pytest.fail(f"CI=true: {reason}")
+        pytest.skip(reason)
+    return module

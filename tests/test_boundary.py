@@ -1,0 +1,179 @@
+"""Boundary meshes: closed, 2-manifold, outward, right topology, vertices on the surface."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from implicit import box, cylinder, halfspace, sphere, torus
+from spatial import mesh
+from spatial.boundary import mesh_block
+
+from meshcheck import min_area, signed_volume, topology, vertex_manifold
+
+#: Refined vertices lie this close to the surface, in voxels.
+REFINED_TOL = 1e-3
+#: Interpolated (unrefined) vertices stay within this many voxels of the surface.
+UNREFINED_TOL = 0.2
+
+
+def benchmark_part():
+    return (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
+        - cylinder(0.5, 4, axis=(0, 0, 1))
+
+
+# name, solid, resolution, Euler characteristic, exact volume
+PARTS = [
+    ("sphere", sphere(1.0, center=(0.1, -0.2, 0.3)), 32, 2, 4 / 3 * math.pi),
+    ("torus", torus(1.0, 0.35), 48, 0, 2 * math.pi ** 2 * 1.0 * 0.35 ** 2),
+    ("box", box((1.0, 0.7, 0.5)), 32, 2, 0.35),
+    ("cylinder", cylinder(0.5, 1.5, axis=(1, 1, 0)), 40, 2, math.pi * 0.25 * 1.5),
+    ("benchmark", benchmark_part(), 64, -8, 0.98878635),
+    # a difference whose tool shares a face with the base: the shared face carries no area
+    ("touching", box(1.0) - box((0.5, 1.0, 0.5), center=(0.25, 0.0, 0.25)), 32, 2, 1.0 - 0.25),
+]
+
+
+@pytest.fixture(scope="module", params=PARTS, ids=[p[0] for p in PARTS])
+def meshed(request):
+    name, solid, n, euler, volume = request.param
+    return name, solid, mesh(solid, resolution=n), euler, volume
+
+
+def test_closed_manifold_oriented(meshed):
+    name, solid, m, euler, volume = meshed
+    topo = topology(m)
+    assert topo["edge_counts"] == {2}, name
+    assert topo["oriented"], name
+    assert topo["degenerate"] == 0 and topo["duplicates"] == 0
+    assert vertex_manifold(m), name
+    assert topo["euler"] == euler
+    assert min_area(m) > 0
+
+
+def test_outward_and_volume(meshed):
+    name, solid, m, euler, volume = meshed
+    h = float(m.field_data["voxel_size"][0])
+    v = signed_volume(m)
+    assert v > 0
+    # second-order accuracy; sharp edges are cut by about h^2/2 per unit length
+    assert abs(v - volume) < 0.03 * volume, (name, v, volume)
+    # outward normals: a point pushed outward along each face normal is outside
+    faces = m.faces.reshape(-1, 4)[:, 1:]
+    p = np.asarray(m.points)
+    n = np.cross(p[faces[:, 1]] - p[faces[:, 0]], p[faces[:, 2]] - p[faces[:, 0]])
+    big = np.linalg.norm(n, axis=1) > 1e-3 * h * h
+    c = p[faces[big]].mean(axis=1)
+    u = n[big] / np.linalg.norm(n[big], axis=1, keepdims=True)
+    outside = solid(c + 0.3 * h * u) > solid(c - 0.3 * h * u)
+    assert outside.mean() > 0.97
+
+
+def test_vertices_refined_onto_surface(meshed):
+    name, solid, m, *_ = meshed
+    h = float(m.field_data["voxel_size"][0])
+    assert np.abs(solid(m.points)).max() < REFINED_TOL * h
+
+
+def test_field_data_and_surface_cost():
+    m = mesh(sphere(1.0), resolution=32)
+    assert m.field_data["voxel_size"][0] == pytest.approx(2.0 / 32)
+    evals = int(m.field_data["evaluations"][0])
+    assert 0 < evals < 35 ** 3
+    # cost follows the surface: doubling N multiplies it by about 4, not 8
+    finer = int(mesh(sphere(1.0), resolution=64).field_data["evaluations"][0])
+    assert 3.0 < finer / evals < 4.5
+
+
+def test_unrefined_vertices_interpolated():
+    s = sphere(1.0)
+    m = mesh(s, resolution=32, refine=False)
+    h = 2.0 / 32
+    err = np.abs(s(m.points))
+    assert err.max() < UNREFINED_TOL * h
+    assert err.max() > REFINED_TOL * h  # refinement does something
+    assert topology(m)["euler"] == 2
+
+
+def test_faces_on_sample_planes_leave_no_hole():
+    # box(1) at resolution 32: h = 1/32, the faces x, y, z = +-0.5 lie exactly on lattice nodes
+    s = box(1.0)
+    m = mesh(s, resolution=32, refine=False)
+    h = 1.0 / 32
+    nodes = (np.array([-0.5, 0.5]) - (-17 * h)) / h
+    assert np.allclose(nodes, np.round(nodes))
+    assert np.any(s(np.array([[0.5, 0.0, 0.0]])) == 0.0)
+    topo = topology(m)
+    assert topo["edge_counts"] == {2} and topo["euler"] == 2
+    assert signed_volume(m) == pytest.approx(1.0, rel=0.02)
+
+
+def test_blocks_merge_independently_of_block_size():
+    s = torus(1.0, 0.3)
+    a = mesh(s, resolution=40, block=8)
+    b = mesh(s, resolution=40, block=64)
+    assert a.n_cells == b.n_cells and a.n_points == b.n_points
+    assert int(a.field_data["blocks"][0]) > int(b.field_data["blocks"][0])
+    assert np.allclose(np.sort(a.points, axis=0), np.sort(b.points, axis=0))
+    assert topology(a)["edge_counts"] == {2}
+
+
+def test_empty_solid_and_no_boundary_warn():
+    empty = sphere(1.0) & sphere(1.0, center=(5, 0, 0))
+    with pytest.warns(RuntimeWarning, match="empty"):
+        m = mesh(empty, resolution=16)
+    assert m.n_cells == 0
+    with pytest.warns(RuntimeWarning, match="no boundary"):
+        m = mesh(sphere(1.0), resolution=8, bounds=((5, 5, 5), (6, 6, 6)))
+    assert m.n_cells == 0 and m.field_data["evaluations"][0] > 0
+    # a solid filling the region is clipped to it: a closed cube of volume 8 minus the cut edges
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m = mesh(sphere(10.0), resolution=16, bounds=((-1, -1, -1), (1, 1, 1)))
+    assert topology(m)["euler"] == 2
+    assert signed_volume(m) == pytest.approx(8.0 - 24 * (2 / 16) ** 2 / 2, rel=0.01)
+
+
+def test_clipped_to_bounds_stays_closed():
+    m = mesh(halfspace((0, 0, 1)), resolution=16, bounds=((-1, -1, -1), (1, 1, 0)))
+    topo = topology(m)
+    assert topo["edge_counts"] == {2} and topo["euler"] == 2
+    # the box's 12 edges (total length 20) lose a triangle of legs h each: h^2/2 per unit length
+    h = 2.0 / 16
+    assert signed_volume(m) == pytest.approx(4.0 - 20 * h * h / 2, rel=0.01)
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError, match="exactly one of voxel_size"):
+        mesh(sphere(1.0))
+    with pytest.raises(ValueError, match="exactly one of voxel_size"):
+        mesh(sphere(1.0), voxel_size=0.1, resolution=10)
+    with pytest.raises(TypeError, match="resolution"):
+        mesh(sphere(1.0), resolution=10.5)
+    with pytest.raises(ValueError, match="voxel_size"):
+        mesh(sphere(1.0), voxel_size=-1.0)
+    with pytest.raises(TypeError, match="Solid"):
+        mesh("sphere", resolution=8)
+    with pytest.raises(ValueError, match="unbounded"):
+        mesh(halfspace((0, 0, 1)), resolution=8)
+    with pytest.raises(ValueError, match="bounds"):
+        mesh(sphere(1.0), resolution=8, bounds=((0, 0, 0), (0, 1, 1)))
+    with pytest.raises(ValueError, match="block"):
+        mesh(sphere(1.0), resolution=8, block=1)
+
+
+def test_mesh_block_is_pure_and_keys_edges():
+    # a plane x = 1.25 through a 3x3x3-node block: 4 cubes, 8 triangles, 9 vertices on x-edges
+    x = np.arange(3, dtype=np.float32)
+    vals = np.broadcast_to((x - 1.25)[:, None, None], (3, 3, 3)).copy()
+    mask = np.zeros((3, 3, 3), bool)
+    mask[2, 1:, 1:] = True  # cubes with lower node (1, j, k)
+    strides = np.array([100, 10, 1])
+    e1, f1 = mesh_block(vals, mask, np.array([5, 0, 0]), strides)
+    e2, f2 = mesh_block(vals.copy(), mask.copy(), np.array([5, 0, 0]), strides)
+    assert np.array_equal(e1, e2) and np.array_equal(f1, f2)
+    assert f1.shape == (8, 3)
+    assert set((e1 % 3).tolist()) == {0}
+    assert sorted(set((e1 // 3 // 100).tolist())) == [6]
+    assert len(set(e1.tolist())) == 9

@@ -1,0 +1,64 @@
+"""`implicad mesh`: files by extension, summary line, errors before work."""
+
+import os
+
+import pytest
+
+from spatial.cli import main
+from spatial.io import load_mesh
+
+from meshcheck import topology
+
+MODEL = "from implicit import sphere, torus\nsolid = torus(1.0, 0.3)\n"
+
+
+@pytest.fixture
+def model(tmp_path):
+    path = tmp_path / "part.py"
+    path.write_text(MODEL)
+    return path
+
+
+def test_writes_mesh_and_summary(tmp_path, model, capsys):
+    out = tmp_path / "part.stl"
+    assert main(["mesh", str(model), "-o", str(out), "--resolution", "32"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""  # no progress bar when stderr is not a terminal
+    line = captured.out.strip()
+    assert len(line.splitlines()) == 1
+    back = load_mesh(out)
+    assert f"{back.n_cells} triangles" in line and f"{back.n_points} vertices" in line
+    assert "watertight yes" in line and "evaluations" in line and " s, " in line
+    assert topology(back)["euler"] == 0
+
+
+def test_voxel_size_bounds_and_no_refine(tmp_path, capsys):
+    path = tmp_path / "half.py"
+    path.write_text("from implicit import halfspace\nsolid = halfspace((0, 0, 1))\n")
+    out = tmp_path / "half.ply"
+    assert main(["mesh", str(path), "-o", str(out), "--voxel-size", "0.25",
+                 "--bounds", "-1", "-1", "-1", "1", "1", "0", "--no-refine"]) == 0
+    assert "watertight yes" in capsys.readouterr().out
+    assert load_mesh(out).volume == pytest.approx(4.0 - 20 * 0.25 ** 2 / 2, rel=0.05)  # cut box edges
+    # unbounded without --bounds: one line naming the fix, exit 2
+    assert main(["mesh", str(path), "-o", str(tmp_path / "x.stl"), "--resolution", "8"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("implicad: error:") and "bounds" in err and len(err.strip().splitlines()) == 1
+
+
+def test_unknown_extension_refused_before_loading(tmp_path, capsys):
+    bad = tmp_path / "boom.py"
+    bad.write_text("raise SystemExit('the model must not be loaded')\n")
+    assert main(["mesh", str(bad), "-o", str(tmp_path / "part.step"), "--resolution", "8"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert "unknown mesh format '.step'" in err and ".stl" in err and ".vtk" in err
+    assert sorted(os.listdir(tmp_path)) == ["boom.py"]
+
+
+def test_needs_exactly_one_size(tmp_path, model):
+    with pytest.raises(SystemExit) as exc:
+        main(["mesh", str(model), "-o", str(tmp_path / "a.stl")])
+    assert exc.value.code == 2
+    with pytest.raises(SystemExit):
+        main(["mesh", str(model), "-o", str(tmp_path / "a.stl"), "--resolution", "8", "--voxel-size", "0.1"])

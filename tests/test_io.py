@@ -1,0 +1,113 @@
+"""Mesh files and OpenVDB level sets: formats, atomic writes, round trips."""
+
+import os
+import sys
+
+import numpy as np
+import pytest
+
+from implicit import sphere, torus
+from spatial import OccupancyGrid, mesh
+from spatial.io import MESH_FORMATS, import_openvdb, load_mesh, load_vdb, mesh_to_solid, save_mesh, save_vdb, \
+    vdb_metadata
+
+from meshcheck import topology
+
+
+@pytest.fixture(scope="module")
+def ball():
+    return mesh(sphere(1.0), resolution=16)
+
+
+@pytest.mark.parametrize("ext", sorted(MESH_FORMATS))
+def test_round_trip_every_format(tmp_path, ball, ext):
+    path = save_mesh(ball, tmp_path / f"ball{ext}")
+    assert os.listdir(tmp_path) == [f"ball{ext}"]
+    back = load_mesh(path)
+    assert back.n_cells == ball.n_cells
+    assert back.n_points == ball.n_points
+    assert topology(back)["edge_counts"] == {2}
+    assert back.volume == pytest.approx(ball.volume, rel=1e-5)
+
+
+def test_stl_is_binary(tmp_path, ball):
+    path = save_mesh(ball, tmp_path / "ball.STL")
+    assert os.path.getsize(path) == 84 + 50 * ball.n_cells
+
+
+def test_unknown_extension_refused_before_work(tmp_path):
+    with pytest.raises(ValueError, match=r"unknown mesh format '\.step'.*\.stl.*\.ply.*\.obj.*\.vtp.*\.vtk"):
+        save_mesh(None, tmp_path / "part.step")  # refused before the mesh is even looked at
+    with pytest.raises(ValueError, match="no extension"):
+        save_mesh(None, tmp_path / "part")
+    with pytest.raises(TypeError, match="PolyData"):
+        save_mesh("mesh", tmp_path / "part.stl")
+    assert os.listdir(tmp_path) == []
+
+
+def test_failed_write_leaves_nothing(tmp_path, ball, monkeypatch):
+    target = tmp_path / "ball.ply"
+    target.write_bytes(b"old contents")
+
+    def broken(self, filename, *args, **kwargs):
+        with open(filename, "wb") as fh:
+            fh.write(b"half a file")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(type(ball), "save", broken)
+    with pytest.raises(OSError, match="disk full"):
+        save_mesh(ball, target)
+    assert os.listdir(tmp_path) == ["ball.ply"]
+    assert target.read_bytes() == b"old contents"
+    with pytest.raises(FileNotFoundError):
+        save_mesh(ball, tmp_path / "missing" / "ball.stl")
+    with pytest.raises(FileNotFoundError):
+        load_mesh(tmp_path / "nothing.stl")
+
+
+def test_missing_openvdb_names_the_package(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pyopenvdb", None)
+    with pytest.raises(ImportError, match="python3-openvdb"):
+        import_openvdb()
+
+
+def test_mesh_to_solid(requires_openvdb, tmp_path, ball):
+    h = 0.05
+    s = mesh_to_solid(ball, h)
+    p = np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.0, 0.97, 0.0], [0.0, 0.0, 1.05], [3.0, 0.0, 0.0]])
+    v = s(p)
+    assert np.all(np.sign(v) == [-1, -1, -1, 1, 1])
+    assert v[2] == pytest.approx(-0.03, abs=0.02) and v[3] == pytest.approx(0.05, abs=0.02)
+    # narrow band: deep values are clamped, never larger than the true distance
+    assert -0.5 < v[1] <= -0.1
+    path = save_mesh(ball, tmp_path / "ball.stl")
+    from_file = mesh_to_solid(path, h)
+    assert np.allclose(from_file(p), v, atol=1e-5)
+    # the level set meshes back to a closed surface
+    again = mesh(s, voxel_size=h)
+    assert topology(again)["euler"] == 2
+
+
+def test_vdb_round_trip_with_metadata(requires_openvdb, tmp_path):
+    s = torus(1.0, 0.3)
+    path = save_vdb(s, tmp_path / "torus.vdb", voxel_size=0.05, units="cm")
+    assert os.listdir(tmp_path) == ["torus.vdb"]
+    meta = vdb_metadata(path)
+    assert meta["voxel_size"] == pytest.approx(0.05) and meta["units"] == "cm"
+    back = load_vdb(path)
+    p = np.array([[1.0, 0.0, 0.0], [1.2, 0.0, 0.0], [0.0, 1.0, 0.25], [0.0, 0.0, 0.0]])
+    true = s(p)
+    got = back(p)
+    near = np.abs(true) < 0.1
+    assert np.allclose(got[near], true[near], atol=5e-3)
+    assert np.all(np.sign(got) == np.sign(true))
+    assert np.all(np.abs(got) <= np.abs(true) + 5e-3)
+    grid = OccupancyGrid.from_solid(s, voxel_size=0.05)
+    save_vdb(grid, tmp_path / "grid.vdb")
+    assert np.allclose(load_vdb(tmp_path / "grid.vdb")(p)[near], true[near], atol=5e-3)
+    with pytest.raises(ValueError, match=r"\.vdb"):
+        save_vdb(s, tmp_path / "torus.stl", voxel_size=0.05)
+    with pytest.raises(ValueError, match="voxel_size"):
+        save_vdb(s, tmp_path / "t.vdb")
+    with pytest.raises(TypeError, match="Solid or an OccupancyGrid"):
+        save_vdb("torus", tmp_path / "t.vdb")
