@@ -5,3 +5,4 @@ from .grid import OccupancyGrid  # noqa: F401
 from .boundary import mesh  # noqa: F401
 from .io import save_mesh, load_mesh, mesh_to_solid, save_vdb, load_vdb  # noqa: F401
 from .mass import MassProperties, mass_properties  # noqa: E402,F401
+from .fea import surface_for_fea, surface_quality, tet_mesh, TetMesh, TetQuality, write_fea  # noqa: F401
