@@ -270,6 +270,26 @@ class Profile:
             if not isinstance(c, Profile):
                 raise TypeError(f"{name}: operand {i} must be a Profile, got {type(c).__name__}")
 
+    def symmetric(self) -> bool:
+        """True when the region is its own mirror image in the line u = 0."""
+        return False
+
+    def meridian(self) -> "Profile | None":
+        """The section of the solid of revolution in the (r, z) plane: this
+        region joined with its mirror image in r = 0, or None when it cannot
+        be built exactly.
+
+        A profile in ``r >= 0`` that meets the axis only at points, or a
+        symmetric one, is its own meridian (its distance at ``r >= 0`` is the
+        distance to the joined region).  A rectangle or polygon with an edge
+        on the axis is joined with its mirror image, so that the axis is not
+        taken for a boundary.
+        """
+        lo, hi = self._bounds
+        if self.symmetric() or lo[0] > 0.0:
+            return self
+        return None
+
     def offset(self, distance) -> "Profile":
         """The region grown by `distance` (shrunk when negative)."""
         return ProfileOffset(self, distance)
@@ -330,6 +350,13 @@ class Circle(Profile):
         c = np.asarray(self._params["center"])
         return np.hypot(p[:, 0] - c[0], p[:, 1] - c[1]) - self._params["radius"]
 
+    def symmetric(self) -> bool:
+        return self._params["center"][0] == 0.0
+
+    def meridian(self):
+        # A disc in r >= 0 meets the axis at one point at most.
+        return self if self.symmetric() or self._bounds[0][0] >= 0.0 else None
+
 
 class Rectangle(Profile):
     """Axis-aligned rectangle of full side lengths `size` about `center` (exact)."""
@@ -353,6 +380,17 @@ class Rectangle(Profile):
         out = np.hypot(np.maximum(q[:, 0], 0), np.maximum(q[:, 1], 0))
         return out + np.minimum(np.maximum(q[:, 0], q[:, 1]), 0.0)
 
+    def symmetric(self) -> bool:
+        return self._params["center"][0] == 0.0
+
+    def meridian(self):
+        lo, hi = self._bounds
+        if self.symmetric() or lo[0] > 0.0:
+            return self
+        if lo[0] == 0.0:
+            return Rectangle((2.0 * hi[0], self._params["size"][1]), (0.0, self._params["center"][1]))
+        return None
+
 
 class Polygon(Profile):
     """A simple polygon (any orientation, convex or not), exact distance."""
@@ -367,6 +405,32 @@ class Polygon(Profile):
 
     def _evaluate(self, p):
         return polygon_distance(p, self._v)
+
+    def symmetric(self) -> bool:
+        v = self._v
+        scale = max(1.0, float(np.abs(v).max()))
+        a = v[np.lexsort((v[:, 1], v[:, 0]))]
+        m = v * [-1.0, 1.0]
+        b = m[np.lexsort((m[:, 1], m[:, 0]))]
+        return bool(np.allclose(a, b, rtol=0, atol=1e-12 * scale))
+
+    def meridian(self):
+        v = self._v
+        lo = v[:, 0].min()
+        if self.symmetric() or lo > 0.0:
+            return self
+        if lo < 0.0:
+            return None
+        on_axis = v[:, 0] == 0.0
+        edges = np.flatnonzero(on_axis & np.roll(on_axis, -1))     # edge i -> i+1 on the axis
+        if edges.size == 0:
+            return self                                            # touches at vertices only
+        if edges.size > 1 or on_axis.sum() != 2:
+            return None
+        # Walk from the far end of the axis edge round to its near end, then back mirrored.
+        path = np.roll(v, -(edges[0] + 1), axis=0)                 # path[0], path[-1] on the axis
+        mirrored = path[-2:0:-1] * [-1.0, 1.0]
+        return Polygon(np.vstack([path, mirrored]))
 
 
 class ProfileUnion(Profile):
@@ -385,6 +449,19 @@ class ProfileUnion(Profile):
     def _evaluate(self, p):
         return np.min([c._evaluate(p) for c in self._children], axis=0)
 
+    def symmetric(self) -> bool:
+        return all(c.symmetric() for c in self._children)
+
+    def meridian(self):
+        # Joining with the mirror image distributes over these operations for
+        # operands in r >= 0 (and symmetric operands are their own image).
+        parts = [c.meridian() for c in self._children]
+        if any(m is None for m in parts):
+            return None
+        if all(m is c for m, c in zip(parts, self._children)):
+            return self
+        return type(self)(*parts)
+
 
 class ProfileIntersection(Profile):
     """Intersection of profiles: ``max`` (a bound)."""
@@ -401,6 +478,19 @@ class ProfileIntersection(Profile):
 
     def _evaluate(self, p):
         return np.max([c._evaluate(p) for c in self._children], axis=0)
+
+    def symmetric(self) -> bool:
+        return all(c.symmetric() for c in self._children)
+
+    def meridian(self):
+        # Joining with the mirror image distributes over these operations for
+        # operands in r >= 0 (and symmetric operands are their own image).
+        parts = [c.meridian() for c in self._children]
+        if any(m is None for m in parts):
+            return None
+        if all(m is c for m, c in zip(parts, self._children)):
+            return self
+        return type(self)(*parts)
 
 
 class ProfileDifference(Profile):
@@ -421,6 +511,19 @@ class ProfileDifference(Profile):
             out = np.maximum(out, -c._evaluate(p))
         return out
 
+    def symmetric(self) -> bool:
+        return all(c.symmetric() for c in self._children)
+
+    def meridian(self):
+        # Joining with the mirror image distributes over these operations for
+        # operands in r >= 0 (and symmetric operands are their own image).
+        parts = [c.meridian() for c in self._children]
+        if any(m is None for m in parts):
+            return None
+        if all(m is c for m, c in zip(parts, self._children)):
+            return self
+        return type(self)(*parts)
+
 
 class ProfileOffset(Profile):
     """A profile grown by `distance` (shrunk when negative): a bound."""
@@ -438,6 +541,9 @@ class ProfileOffset(Profile):
 
     def _evaluate(self, p):
         return self._children[0]._evaluate(p) - self._params["distance"]
+
+    def symmetric(self) -> bool:
+        return self._children[0].symmetric()
 
 
 def circle(radius=1.0, center=(0.0, 0.0)) -> Profile:
@@ -538,18 +644,26 @@ class Extrude(Solid):
 class Revolve(Solid):
     """A profile in the ``(r, z)`` half-plane turned about `axis` through `center`.
 
-    The profile must lie in ``r >= 0``.  A full turn is exact for an exact
-    profile (the nearest boundary point lies in the point's own meridian
-    half-plane).  A partial turn of `angle` degrees, starting at the local
-    +x direction and running counter-clockwise about the axis, is exact
-    outside the solid (the nearest point then lies on the lateral surface at
-    the point's own angle, or on one of the two planar end faces) and a
-    bound inside it (``max`` of the profile's distance and the angular
-    sector's half-planes).
+    The profile lies in ``r >= 0`` or is symmetric about ``r = 0`` (a disc
+    centred on the axis makes a ball).  The field of a full turn is the
+    profile's distance in the point's own meridian half-plane, evaluated on
+    the *meridian* (the profile joined with its mirror image, see
+    `Profile.meridian`, so that an edge lying on the axis is not a
+    boundary): exact for an exact meridian, since the nearest boundary point
+    lies in that half-plane.  When no exact meridian can be built (a boolean
+    of other profiles with an edge on the axis) the plain profile is used
+    and the node is marked a bound.
+
+    A partial turn of `angle` degrees, starting at local +x and running
+    counter-clockwise about the axis, is exact outside the solid for a
+    profile in ``r >= 0`` (the nearest point lies on the lateral surface at
+    the point's own angle or on one of the two planar end faces) and a
+    bound inside (``max`` of the meridian distance and the angular sector's
+    half-planes).
     """
 
     kind = "revolve"
-    __slots__ = ("_profile", "_rot", "_c", "_alpha")
+    __slots__ = ("_profile", "_meridian", "_rot", "_c", "_alpha", "_half")
 
     def __init__(self, profile, angle=360.0, center=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0)):
         prof = _as_profile(profile)
@@ -559,18 +673,27 @@ class Revolve(Solid):
         c = as_vector(center, "center")
         rot = rotation_to_axis(axis)
         lo2, hi2 = prof.bounds
-        if lo2[0] < -1e-12 * max(1.0, abs(hi2[0])):
-            raise ValueError(f"profile: expected a profile in the half-plane r >= 0, its bounds reach r = {lo2[0]:g}")
-        rmax = hi2[0]
+        half = bool(lo2[0] >= 0.0)
+        if not half and not prof.symmetric():
+            raise ValueError(f"profile: expected a profile in the half-plane r >= 0 or symmetric about r = 0, "
+                             f"its bounds reach r = {lo2[0]:g}")
+        meridian = prof.meridian()
+        exact_meridian = meridian is not None
+        if meridian is None:
+            meridian = prof
+        rmax = max(hi2[0], -lo2[0])
         local = np.array([[x, y, z] for x in (-rmax, rmax) for y in (-rmax, rmax) for z in (lo2[1], hi2[1])])
         world = local @ rot.T + c
         super().__init__((), {"profile": prof.to_dict(), "angle": ang, "center": c.tolist(),
                               "axis": rot[:, 2].tolist()},
-                         (world.min(axis=0), world.max(axis=0)), exact=prof.exact and ang == 360.0)
+                         (world.min(axis=0), world.max(axis=0)),
+                         exact=prof.exact and meridian.exact and exact_meridian and ang == 360.0)
         object.__setattr__(self, "_profile", prof)
+        object.__setattr__(self, "_meridian", meridian)
         object.__setattr__(self, "_rot", rot)
         object.__setattr__(self, "_c", c)
         object.__setattr__(self, "_alpha", np.radians(ang))
+        object.__setattr__(self, "_half", half)
 
     @property
     def profile(self) -> Profile:
@@ -582,11 +705,18 @@ class Revolve(Solid):
 
     __repr__ = _label
 
+    def _cap(self, u, z, h):
+        """Distance to an end face: the profile's part in r >= 0, in its plane."""
+        d = self._profile._evaluate(np.stack([u, z], axis=1))
+        if not self._half:
+            d = np.maximum(d, -u)      # a bound where the face is cut at the axis
+        return np.hypot(np.maximum(d, 0.0), h)
+
     def _evaluate(self, p):
         q = (p - self._c) @ self._rot
         x, y, z = q[:, 0], q[:, 1], q[:, 2]
         r = np.hypot(x, y)
-        d = self._profile._evaluate(np.stack([r, z], axis=1))
+        d = self._meridian._evaluate(np.stack([r, z], axis=1))
         alpha = self._alpha
         if alpha >= 2.0 * np.pi:
             return d
@@ -599,10 +729,8 @@ class Revolve(Solid):
         sector = np.maximum(a, b) if alpha <= np.pi else np.minimum(a, b)
         inside_value = np.where(d >= 0.0, d, np.maximum(d, sector))
         # Outside the angular range: distance to the nearer planar end face.
-        cap0 = np.hypot(np.maximum(self._profile._evaluate(np.stack([x, z], axis=1)), 0.0), y)
         u = ca * x + sa * y
-        capa = np.hypot(np.maximum(self._profile._evaluate(np.stack([u, z], axis=1)), 0.0), b)
-        return np.where(in_range, inside_value, np.minimum(cap0, capa))
+        return np.where(in_range, inside_value, np.minimum(self._cap(x, z, y), self._cap(u, z, b)))
 
 
 def extrude(profile: Profile, height: float, center=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0)) -> Solid:
