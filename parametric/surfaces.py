@@ -325,7 +325,7 @@ class CoonsPatch(Surface):
         c = self._corners
         out = np.zeros((u.size, order + 1, order + 1, self._dim))
         for k in range(order + 1):
-            for l in range(order + 1 - k):
+            for l in range(order + 1):
                 val = (C0[:, k] * fv[:, l, None] + C1[:, k] * gv[:, l, None]
                        + D0[:, l] * fu[:, k, None] + D1[:, l] * gu[:, k, None])
                 val -= ((fu[:, k] * fv[:, l])[:, None] * c["p00"]
