@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from .primitives import _Primitive
-from .solid import Solid, as_positive, as_vector
+from .solid import Solid, as_positive, as_vector, unit
 from .sweeps import as_polygon, extrude, polygon, rotation_to_axis
 
 __all__ = [
@@ -206,7 +206,7 @@ def _as_planes(normals, points):
     length = np.linalg.norm(n, axis=1)
     if np.any(length == 0):
         raise ValueError(f"normals: normal {int(np.argmin(length))} is zero")
-    n = n / length[:, None]
+    n = np.where(np.abs(length - 1.0)[:, None] <= 4e-16, n, n / length[:, None])
     return n, q, np.einsum("ij,ij->i", n, q)
 
 
@@ -266,7 +266,7 @@ class Pyramid(_Polytope):
         n_loc, d_loc = _polygon_planes(v, apex)
         normals = n_loc @ rot.T
         offsets = d_loc + normals @ c
-        self._setup({"base": v.tolist(), "height": h, "center": c.tolist(), "axis": rot[:, 2].tolist()},
+        self._setup({"base": v.tolist(), "height": h, "center": c.tolist(), "axis": unit(as_vector(axis, "axis")).tolist()},
                     normals, offsets, "pyramid")
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solid import Solid, as_finite, as_positive, as_vector
+from .solid import Solid, as_finite, as_positive, as_vector, unit
 
 __all__ = [
     "HalfSpace",
@@ -44,8 +44,7 @@ def frame_from_axis(axis) -> np.ndarray:
     Local coordinates of a point are ``frame @ (p - centre)``; the third is
     the coordinate along the axis.
     """
-    w = as_vector(axis, "axis", nonzero=True)
-    w = w / np.linalg.norm(w)
+    w = unit(as_vector(axis, "axis", nonzero=True))
     helper = np.array([1.0, 0.0, 0.0]) if abs(w[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     u = np.cross(w, helper)
     u /= np.linalg.norm(u)
@@ -78,8 +77,7 @@ class HalfSpace(_Primitive):
     __slots__ = ("_n", "_d")
 
     def __init__(self, normal, point=(0.0, 0.0, 0.0)):
-        n = as_vector(normal, "normal", nonzero=True)
-        n = n / np.linalg.norm(n)
+        n = unit(as_vector(normal, "normal", nonzero=True))
         q = as_vector(point, "point")
         lo = np.full(3, -np.inf)
         hi = np.full(3, np.inf)

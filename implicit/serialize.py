@@ -229,6 +229,7 @@ def from_json(text_or_dict: Any, *, max_depth: int = MAX_DEPTH, max_nodes: int =
     Parameters
     ----------
     text_or_dict : str, bytes or dict
+        JSON text, or data already parsed from it.
     max_depth, max_nodes, max_chars : int
         Limits on hostile input.
 
@@ -239,5 +240,9 @@ def from_json(text_or_dict: Any, *, max_depth: int = MAX_DEPTH, max_nodes: int =
     ...
     ValueError: $.radius: expected a positive number, got -2
     """
-    data = text_or_dict if isinstance(text_or_dict, dict) else parse_json(text_or_dict, max_chars=max_chars)
+    if isinstance(text_or_dict, (str, bytes, bytearray)):
+        data = parse_json(text_or_dict, max_chars=max_chars)
+    else:
+        data = text_or_dict   # already parsed
+
     return from_dict(data, max_depth=max_depth, max_nodes=max_nodes)

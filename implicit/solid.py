@@ -33,6 +33,7 @@ __all__ = [
     "as_finite",
     "INFINITE_BOUNDS",
     "box_corners",
+    "unit",
 ]
 
 #: Bounds of a solid that fills space without limit.
@@ -89,6 +90,13 @@ def as_vector(value: Any, name: str, *, size: int = 3, nonzero: bool = False) ->
     if nonzero and not np.any(arr):
         raise ValueError(f"{name}: expected a nonzero vector, got {arr.tolist()}")
     return arr
+
+
+def unit(vector: np.ndarray) -> np.ndarray:
+    """`vector` / |vector|, left as it is when already of unit length, so
+    that normalising a stored (normalised) vector again gives the same bits."""
+    length = float(np.linalg.norm(vector))
+    return vector if abs(length - 1.0) <= 4e-16 else vector / length
 
 
 def as_finite(value: Any, name: str) -> float:

@@ -22,7 +22,7 @@ import numbers
 
 import numpy as np
 
-from .solid import Solid, _fmt, as_finite, as_positive, as_vector
+from .solid import Solid, _fmt, as_finite, as_positive, as_vector, unit
 
 __all__ = [
     "Profile",
@@ -54,8 +54,7 @@ def rotation_to_axis(axis) -> np.ndarray:
     Local coordinates of a point are ``(p - centre) @ R``; for ``axis = -z``
     the rotation is a half turn about x.
     """
-    w = as_vector(axis, "axis", nonzero=True)
-    w = w / np.linalg.norm(w)
+    w = unit(as_vector(axis, "axis", nonzero=True))
     c = w[2]
     if c < -1.0 + 1e-12:
         return np.diag([1.0, -1.0, -1.0])
@@ -609,7 +608,7 @@ class Extrude(Solid):
         c = as_vector(center, "center")
         rot = rotation_to_axis(axis)
         lo2, hi2 = prof.bounds
-        a = rot[:, 2]
+        a = unit(as_vector(axis, "axis"))
         if np.any(lo2 > hi2):
             bounds = (np.full(3, np.inf), np.full(3, -np.inf))
         else:
@@ -685,7 +684,7 @@ class Revolve(Solid):
         local = np.array([[x, y, z] for x in (-rmax, rmax) for y in (-rmax, rmax) for z in (lo2[1], hi2[1])])
         world = local @ rot.T + c
         super().__init__((), {"profile": prof.to_dict(), "angle": ang, "center": c.tolist(),
-                              "axis": rot[:, 2].tolist()},
+                              "axis": unit(as_vector(axis, "axis")).tolist()},
                          (world.min(axis=0), world.max(axis=0)),
                          exact=prof.exact and meridian.exact and exact_meridian and ang == 360.0)
         object.__setattr__(self, "_profile", prof)
