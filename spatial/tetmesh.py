@@ -32,6 +32,10 @@ __all__ = ["TetMesh", "tet_mesh", "MeshQualityWarning", "SIDE_NODES"]
 #: (outward normals by the right-hand rule for a positive tetrahedron).
 SIDE_NODES = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]])
 
+#: The two corners shared by sides i and j (``_SIDE_COMMON[i, j]``).
+_SIDE_COMMON = np.array([[sorted(set(SIDE_NODES[i]) & set(SIDE_NODES[j])) if i != j else [0, 0]
+                          for j in range(4)] for i in range(4)])
+
 #: Volume of a regular tetrahedron of unit edge.
 _REGULAR_VOLUME = 1.0 / (6.0 * np.sqrt(2.0))
 
@@ -199,6 +203,44 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
             # Nothing improved this round; new random trials may still help.
             continue
     return pts
+
+
+def _peel(points, tets, min_dihedral, max_dihedral):
+    """Remove flat elements that have two sides on the boundary.
+
+    Such a sliver lies on the surface (all four nodes on it); removing it
+    leaves its two other sides as boundary, which stay on the surface.  An
+    element is kept when its remaining sides' common edge is already on the
+    boundary (the boundary would stop being manifold).  Returns the elements
+    left and how many were removed.
+    """
+    score = _score(dihedral_angles(points, tets), min_dihedral, max_dihedral)
+    bad = np.nonzero(score < min_dihedral)[0]
+    if bad.size == 0:
+        return tets, 0
+    bfaces, belem, bside = _boundary_faces(tets)
+    nb = np.bincount(belem, minlength=len(tets))
+    cand = bad[nb[bad] == 2]
+    if cand.size == 0:
+        return tets, 0
+    # The edge shared by the two inner sides must not be on the boundary already.
+    on_b = np.zeros((len(tets), 4), dtype=bool)
+    on_b[belem, bside] = True
+    sides = on_b[cand]
+    inner = np.nonzero(~sides)[1].reshape(-1, 2)
+    edge = np.sort(tets[cand[:, None], _SIDE_COMMON[inner[:, 0], inner[:, 1]]], axis=1)
+    bedges = np.sort(np.concatenate([bfaces[:, [0, 1]], bfaces[:, [1, 2]], bfaces[:, [2, 0]]]), axis=1)
+    n = points.shape[0] + 1
+    on_boundary = np.isin(edge[:, 0] * n + edge[:, 1], bedges[:, 0] * n + bedges[:, 1])
+    # One removal per neighbourhood: no two removed elements may share a node.
+    cand = cand[~on_boundary]
+    if cand.size == 0:
+        return tets, 0
+    uniq, cnt = np.unique(tets[cand].reshape(-1), return_counts=True)
+    cand = cand[~np.isin(tets[cand], uniq[cnt > 1]).any(axis=1)]
+    keep = np.ones(len(tets), dtype=bool)
+    keep[cand] = False
+    return tets[keep], int(cand.size)
 
 
 # ---------------------------------------------------------------------------
@@ -439,6 +481,10 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
         nodes = _improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 1,
                          solid=solid, slide=slide)
         info["boundary_slid"] = True
+        elems, peeled = _peel(nodes, elems, min_dihedral, max_dihedral)
+        if peeled:
+            info["peeled"] = peeled
+            bfaces, belem, bside = _boundary_faces(elems)
     if np.any(tet_volumes(nodes, elems) <= 0):
         raise ValueError("tet_mesh: an element is inverted after meshing (zero or negative volume)")
     tets = elems
