@@ -129,8 +129,10 @@ OPS = {
     "negif2": (21, "rrr"),   # -a where b < 0 and c < 0 else a
     "sqrtmin": (22, "rrrr"),  # sqrt(min(a*a + b*b, c*c + d*d))
     "maxneg": (23, "rr"),    # max(a, -b)
+    "store": (24, "r"),      # record a (the value of an operand, for pruning)
 }
 _SKIP = 99
+_STORE = 24
 _NCOL = 7  # opcode, dst, a, b, c, d, k
 
 
@@ -155,6 +157,12 @@ class KernelSource:
         self._open: list[int] = []
         self._frames: dict[tuple, tuple] = {(0, 1, 2): (np.eye(3), np.zeros(3))}
         self._coords: list[tuple] = []
+        # Nodes being emitted: [node, operands emitted so far, stores of them].
+        self._stack: list[list] = []
+        #: Prunable nodes emitted: (node, frame, store slot of each operand,
+        #: [(operand index, flag column)]).
+        self.groups: list[tuple[Solid, tuple | None, list[int], list]] = []
+        self.nstore = 0
 
     def const(self, value) -> int:
         """Index of the constant `value`."""
@@ -191,11 +199,25 @@ class KernelSource:
         rule = RULES.get(type(node))
         if rule is None:
             raise Unsupported(type(node).__name__)
+        parent = self._stack[-1] if self._stack else None
+        entry = [node, 0, [], []]
+        if type(node) in PRUNE_MODES and self.prune:
+            self.groups.append((node, self._frames.get(tuple(coords)), entry[2], entry[3]))
         self._coords.append(tuple(coords))
+        self._stack.append(entry)
         try:
-            return rule(node, self, tuple(coords))
+            result = rule(node, self, tuple(coords))
         finally:
             self._coords.pop()
+            self._stack.pop()
+        if parent is not None and type(parent[0]) in PRUNE_MODES and self.prune:
+            # Record the operand's value: bounds per bin come from these
+            # values at the bins' centres (the tape run without skips).
+            row = [OPS["store"][0], -1, result, self.nstore, -1, -1, -1]
+            self.code.append(row)
+            parent[2].append(self.nstore)
+            self.nstore += 1
+        return result
 
     def frame(self, coords) -> tuple | None:
         """``(matrix, offset)`` with ``coords = matrix @ p + offset`` for world
@@ -215,6 +237,8 @@ class KernelSource:
         if self.prune:
             coords = self._coords[-1] if self._coords else (0, 1, 2)
             self.flags.append((node, index, self._frames.get(coords)))
+            if self._stack and self._stack[-1][0] is node:
+                self._stack[-1][3].append((index, len(self.flags) - 1))
             self.code.append([_SKIP, -1, len(self.flags) - 1, -1, -1, -1, -1])
         self._open.append(len(self.code) - 1)
 
@@ -269,17 +293,31 @@ def register_rule(cls: type, *, prune: str | None = None):
 
 
 def _local(gen: KernelSource, coords, centre, frame=None) -> list[int]:
-    """Registers of ``frame @ (p - centre)`` (or ``p - centre``)."""
-    c = gen.consts_of(centre)
-    d = [gen.op("subk", coords[i], c[i]) for i in range(3)]
+    """Registers of ``frame @ (p - centre)`` (or ``p - centre``).
+
+    Zero terms are left out and unit rows become copies: ``x - 0`` and
+    ``0 * a + 1 * b`` are exact in floating point, so the values stay those
+    of numpy's full product.
+    """
+    d = [coords[i] if centre[i] == 0.0 else gen.op("subk", coords[i], gen.const(centre[i]))
+         for i in range(3)]
     if frame is None:
         return d
-    f = gen.consts_of(frame)
+    frame = np.asarray(frame, dtype=np.float64)
     out = []
     for r in range(3):
-        acc = gen.op("mulk", d[0], f[3 * r])
-        acc = gen.op("madk", d[1], acc, f[3 * r + 1], into=acc)
-        out.append(gen.op("madk", d[2], acc, f[3 * r + 2], into=acc))
+        terms = [(i, frame[r, i]) for i in range(3) if frame[r, i] != 0.0]
+        if len(terms) == 1 and terms[0][1] == 1.0:
+            out.append(d[terms[0][0]])
+        elif len(terms) == 1 and terms[0][1] == -1.0:
+            out.append(gen.op("neg", d[terms[0][0]]))
+        elif not terms:
+            out.append(gen.op("fill", gen.const(0.0)))
+        else:
+            acc = gen.op("mulk", d[terms[0][0]], gen.const(terms[0][1]))
+            for i, f in terms[1:]:
+                gen.op("madk", d[i], acc, gen.const(f), into=acc)
+            out.append(acc)
     return out
 
 
@@ -463,6 +501,9 @@ def _allocate(code: np.ndarray, result: int):
     for pc, row in enumerate(code):
         if row[0] == _SKIP:
             continue
+        if row[0] == _STORE:
+            last[int(row[2])] = max(last.get(int(row[2]), pc), pc)
+            continue
         for r in row[2:6]:
             if r >= 0:
                 last[r] = max(last.get(r, pc), pc)
@@ -476,7 +517,9 @@ def _allocate(code: np.ndarray, result: int):
     top = 3
     out = code.copy()
     for pc, row in enumerate(code):
-        if row[0] != _SKIP:
+        if row[0] == _STORE:
+            out[pc, 2] = mapping[int(row[2])]
+        elif row[0] != _SKIP:
             for j in range(2, 6):
                 if row[j] >= 0:
                     out[pc, j] = mapping[int(row[j])]
@@ -495,20 +538,49 @@ def _allocate(code: np.ndarray, result: int):
 
 
 class Tape:
-    """The compiled form of a tree: operations, constants, pruning flags."""
+    """The compiled form of a tree for the interpreter.
 
-    __slots__ = ("code", "consts", "flags", "result", "nreg")
+    Attributes
+    ----------
+    code : (k, 7) int64
+        Operations (opcode, destination, operands, constant index) with a
+        skip before every prunable operand.
+    record : (k', 7) int64
+        The same without skips, storing the operands of prunable nodes (run
+        at bin centres to bound them).
+    consts : (c,) float64
+    flags : list of (node, operand index, frame)
+        The pruning flags in the order of the skips.
+    groups : list of (node, frame, store slots)
+        Prunable nodes with the store slot of each operand.
+    """
+
+    __slots__ = ("code", "record", "consts", "flags", "groups", "result", "nreg", "nstore")
 
     def __init__(self, solid: Solid, *, prune: bool = True):
         gen = KernelSource(prune=prune)
         result = gen.node(solid, (0, 1, 2))
         code = np.array(gen.code, dtype=np.int64).reshape(-1, _NCOL)
-        self.code, self.result, self.nreg = _allocate(code, result)
+        code, self.result, self.nreg = _allocate(code, result)
         self.consts = np.array(gen.consts + [0.0], dtype=np.float64)
         self.flags = gen.flags
+        self.groups = gen.groups
+        self.nstore = gen.nstore
+        self.code = _drop(code, _STORE)
+        self.record = _drop(code, _SKIP)
 
     def __len__(self) -> int:
         return len(self.code)
+
+
+def _drop(code: np.ndarray, opcode: int) -> np.ndarray:
+    """`code` without the rows of `opcode`, skip targets renumbered."""
+    keep = code[:, 0] != opcode
+    newpos = np.concatenate([[0], np.cumsum(keep)])
+    out = code[keep].copy()
+    skips = out[:, 0] == _SKIP
+    out[skips, 3] = newpos[out[skips, 3]]
+    return out
 
 
 # ---------------------------------------------------------------------------
@@ -525,7 +597,7 @@ def _build_kernels(numba):
     njit = numba.njit
 
     @njit(fastmath=False, cache=False, nogil=True)
-    def run_block(code, K, R, n, flags, c):
+    def run_block(code, K, R, n, flags, c, rec, s):
         pc = 0
         ncode = code.shape[0]
         while pc < ncode:
@@ -615,13 +687,16 @@ def _build_kernels(numba):
             elif op == 23:
                 for j in range(n):
                     R[d, j] = max(R[a, j], -R[b, j])
+            elif op == 24:
+                for j in range(n):
+                    rec[b, s + j] = R[a, j]
             pc += 1
 
     def make_run(parallel):
         loop = numba.prange if parallel else range
 
         @njit(fastmath=False, cache=False, nogil=True, parallel=parallel)
-        def run(code, K, nreg, result, pts, order, starts, flags, out, block, nthreads):
+        def run(code, K, nreg, result, pts, order, starts, flags, out, block, nthreads, rec):
             nbins = starts.shape[0] - 1
             per = (nbins + nthreads - 1) // nthreads
             for t in loop(nthreads):
@@ -629,18 +704,11 @@ def _build_kernels(numba):
                 for c in range(t * per, min(nbins, (t + 1) * per)):
                     for s in range(starts[c], starts[c + 1], block):
                         n = min(block, starts[c + 1] - s)
-                        if order.shape[0] > 0:
-                            for j in range(n):
-                                i = order[s + j]
-                                R[0, j] = pts[i, 0]
-                                R[1, j] = pts[i, 1]
-                                R[2, j] = pts[i, 2]
-                        else:
-                            for j in range(n):
-                                R[0, j] = pts[s + j, 0]
-                                R[1, j] = pts[s + j, 1]
-                                R[2, j] = pts[s + j, 2]
-                        run_block(code, K, R, n, flags, c)
+                        for j in range(n):
+                            R[0, j] = pts[s + j, 0]
+                            R[1, j] = pts[s + j, 1]
+                            R[2, j] = pts[s + j, 2]
+                        run_block(code, K, R, n, flags, c, rec, s)
                         if order.shape[0] > 0:
                             for j in range(n):
                                 out[order[s + j]] = R[result, j]
@@ -651,24 +719,32 @@ def _build_kernels(numba):
 
     @njit(cache=False, nogil=True)
     def bounds_of(pts):
-        lo = np.empty(3)
-        hi = np.empty(3)
-        for a in range(3):
-            lo[a] = pts[0, a]
-            hi[a] = pts[0, a]
+        lx = hx = pts[0, 0]
+        ly = hy = pts[0, 1]
+        lz = hz = pts[0, 2]
         for i in range(pts.shape[0]):
-            for a in range(3):
-                v = pts[i, a]
-                lo[a] = min(lo[a], v)
-                hi[a] = max(hi[a], v)
-        return lo, hi
+            x = pts[i, 0]
+            y = pts[i, 1]
+            z = pts[i, 2]
+            lx = min(lx, x)
+            hx = max(hx, x)
+            ly = min(ly, y)
+            hy = max(hy, y)
+            lz = min(lz, z)
+            hz = max(hz, z)
+        return np.array([lx, ly, lz]), np.array([hx, hy, hz])
 
     @njit(cache=False, nogil=True)
-    def bin_points(pts, lo, scale, g):
-        # Counting sort of the points by grid cell: sorted copy, permutation,
-        # start of every non-empty bin and the tight box of its points.
+    def unsort(values, order, out):
+        for k in range(values.shape[0]):
+            out[order[k]] = values[k]
+
+    @njit(cache=False, nogil=True)
+    def bin_points(pts, lo, scale, g, cell, order, sorted_pts):
+        # Counting sort of the points by grid cell into the buffers `order`
+        # (permutation) and `sorted_pts`; returns the start of every
+        # non-empty bin and the tight box of its points.
         n = pts.shape[0]
-        cell = np.empty(n, np.int32)
         counts = np.zeros(g * g * g + 1, np.int64)
         for i in range(n):
             ix = min(max(int((pts[i, 0] - lo[0]) * scale[0]), 0), g - 1)
@@ -690,8 +766,6 @@ def _build_kernels(numba):
                 j += 1
         starts[nonempty] = n
         fill = counts[:-1].copy()
-        order = np.empty(n, np.int32)
-        sorted_pts = np.empty((n, 3))
         for i in range(n):
             c = cell[i]
             k = fill[c]
@@ -712,20 +786,14 @@ def _build_kernels(numba):
                     vmax = max(vmax, v)
                 lo_box[b, a] = vmin
                 hi_box[b, a] = vmax
-        return sorted_pts, order, starts, lo_box, hi_box
+        return starts, lo_box, hi_box
 
-    @njit(cache=False, nogil=True)
-    def unsort(values, order):
-        out = np.empty(values.shape[0])
-        for k in range(values.shape[0]):
-            out[order[k]] = values[k]
-        return out
-
-    return make_run, bin_points, unsort, bounds_of
+    return make_run, bin_points, bounds_of, unsort
 
 
 def _kernel(name: str):
-    """The compiled kernel `name` ("serial", "parallel", "bin", "unsort"), or None
+    """The compiled kernel `name` ("serial", "parallel", "bin", "bounds",
+    "unsort"), or None
     when numba is not importable."""
     kernel = _KERNELS.get(name)
     if kernel is not None:
@@ -736,15 +804,16 @@ def _kernel(name: str):
     with _KERNEL_LOCK:
         if "factory" not in _KERNELS:
             _KERNELS["factory"] = _build_kernels(numba)
-        make_run, bin_points, unsort, bounds_of = _KERNELS["factory"]
+        make_run, bin_points, bounds_of, unsort = _KERNELS["factory"]
         if name not in _KERNELS:
             start = time.perf_counter()
             if name == "bin":
                 kernel = bin_points
-                kernel(np.zeros((1, 3)), np.zeros(3), np.ones(3), 1)
+                kernel(np.zeros((1, 3)), np.zeros(3), np.ones(3), 1, np.zeros(1, np.int32),
+                       np.zeros(1, np.int32), np.zeros((1, 3)))
             elif name == "unsort":
                 kernel = unsort
-                kernel(np.zeros(1), np.zeros(1, np.int32))
+                kernel(np.zeros(1), np.zeros(1, np.int32), np.zeros(1))
             elif name == "bounds":
                 kernel = bounds_of
                 kernel(np.zeros((1, 3)))
@@ -752,69 +821,99 @@ def _kernel(name: str):
                 kernel = make_run(name == "parallel")
                 tape = Tape(Difference(Sphere(1.0), Cone(1.0, 1.0), Union(Box(), Torus(1.0, 0.5))))
                 _call(kernel, tape, np.zeros((4, 3)), None, None, None, 1)
+                _call(kernel, tape, np.zeros((4, 3)), None, None, None, 1, record=True)
             COMPILE_SECONDS[name] = time.perf_counter() - start
             _KERNELS[name] = kernel
     return _KERNELS[name]
+
+
+#: Binning buffers are kept per thread for calls up to this many points
+#: (fresh pages cost a third of the time of a pruned evaluation).
+WORKSPACE_MAX_POINTS = 1 << 21
+_LOCAL = threading.local()
+
+
+class _Workspace:
+    """Per-thread buffers (cell, order, sorted points, values) for `n` points; fresh
+    arrays when the thread's buffers are in use or `n` is large."""
+
+    def __init__(self, n: int):
+        self.n = n
+        self.owned = False
+
+    def __enter__(self):
+        n = self.n
+        if n > WORKSPACE_MAX_POINTS or getattr(_LOCAL, "busy", False):
+            return np.empty(n, np.int32), np.empty(n, np.int32), np.empty((n, 3)), np.empty(n)
+        buffers = getattr(_LOCAL, "buffers", None)
+        if buffers is None or buffers[0].shape[0] < n:
+            size = max(n, 1 << 16)
+            buffers = (np.empty(size, np.int32), np.empty(size, np.int32), np.empty((size, 3)), np.empty(size))
+            _LOCAL.buffers = buffers
+        _LOCAL.busy = self.owned = True
+        return tuple(b[:n] for b in buffers)
+
+    def __exit__(self, *exc):
+        if self.owned:
+            _LOCAL.busy = False
+        return False
 
 
 #: Points per block of the interpreter (registers stay in the L1/L2 cache).
 BLOCK = 256
 
 
-def _call(kernel, tape: Tape, flat, order, starts, flags, nthreads):
+def _call(kernel, tape: Tape, flat, order, starts, flags, nthreads, *, record=False, out=None):
     n = flat.shape[0]
     if starts is None:
         nb = max(1, min(nthreads * 64, -(-n // BLOCK)))
         starts = np.linspace(0, n, nb + 1).astype(np.int64)
-        order = np.empty(0, np.int64)
+        order = np.empty(0, np.int32)
         flags = np.ones((nb, max(1, len(tape.flags))), dtype=np.bool_)
-    out = np.empty(n)
-    kernel(tape.code, tape.consts, tape.nreg, tape.result, flat, order, starts, flags, out, BLOCK, nthreads)
+    if out is None:
+        out = np.empty(n)
+    if record:
+        rec = np.empty((tape.nstore, n))
+        kernel(tape.record, tape.consts, tape.nreg, tape.result, flat, order, starts, flags, out, BLOCK, nthreads, rec)
+        return rec
+    kernel(tape.code, tape.consts, tape.nreg, tape.result, flat, order, starts, flags, out, BLOCK, nthreads, _NO_RECORD)
     return out
+
+
+_NO_RECORD = np.empty((0, 0))
+_NO_ORDER = np.empty(0, np.int32)
 
 
 # ---------------------------------------------------------------------------
 # pruning decisions per bin
 # ---------------------------------------------------------------------------
 
-def _node_bounds(node: Solid, lo: np.ndarray, hi: np.ndarray, centre: np.ndarray, radius: np.ndarray):
-    """Conservative ``(vmin, vmax)`` of `node` over the boxes, in local
-    coordinates (box centres `centre`, radii `radius`)."""
-    if type(node) in RULES:
-        value = node._evaluate(centre)
-        spread = node.lipschitz * radius
-        return value - spread, value + spread
-    return node._value_bounds(lo, hi)
+def _flags(tape: "Tape", lo: np.ndarray, hi: np.ndarray, kernel) -> np.ndarray:
+    """Boolean ``(m, len(tape.flags))``: operand needed somewhere in box ``i``.
 
-
-def _flags(flags, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Boolean ``(m, len(flags))``: operand needed somewhere in box ``i``."""
+    An operand's value over a box lies within its value at the centre plus or
+    minus its Lipschitz constant times the box's half-diagonal (measured in
+    the operand's coordinates); the values at all centres come from one run
+    of the recording tape.
+    """
     m = lo.shape[0]
-    out = np.ones((m, len(flags)), dtype=np.bool_)
-    if not flags:
+    out = np.ones((m, len(tape.flags)), dtype=np.bool_)
+    if not tape.flags or m == 0:
         return out
     centre = 0.5 * (lo + hi)
     radius = 0.5 * np.sqrt(np.einsum("ij,ij->i", hi - lo, hi - lo))
     # A little slack for rounding in the values compared.
     radius = radius * (1.0 + 1e-12) + 1e-12
-    groups: dict[tuple, list] = {}
-    for col, (node, index, frame) in enumerate(flags):
-        groups.setdefault((id(node), id(frame)), [node, frame, []])[2].append((index, col))
-    for node, frame, entries in groups.values():
-        if frame is None:
+    values = _call(kernel, tape, np.ascontiguousarray(centre), None, None, None, 1, record=True)
+    for node, frame, slots, entries in tape.groups:
+        if frame is None or len(slots) != len(node.children):
             continue
-        matrix, offset = frame
-        if np.array_equal(matrix, np.eye(3)) and not offset.any():
-            c_loc, r_loc, lo_loc, hi_loc = centre, radius, lo, hi
-        else:
-            c_loc = centre @ matrix.T + offset
-            r_loc = radius * np.linalg.norm(matrix, 2)
-            # A local box holding the image of the world box (a ball of r_loc).
-            lo_loc, hi_loc = c_loc - r_loc[:, None], c_loc + r_loc[:, None]
+        scale = radius * np.linalg.norm(frame[0], 2)
+        lips = np.array([c.lipschitz for c in node.children])[:, None]
+        v = values[slots]
+        vmin = v - lips * scale
+        vmax = v + lips * scale
         mode = PRUNE_MODES[type(node)]
-        bounds = [_node_bounds(c, lo_loc, hi_loc, c_loc, r_loc) for c in node.children]
-        vmin = np.array([b[0] for b in bounds])
-        vmax = np.array([b[1] for b in bounds])
         if mode == "min":
             keep = ~(vmin > vmax.min(axis=0))
         elif mode == "max":
@@ -905,8 +1004,8 @@ class CompiledSolid:
         if self.backend == "numba":
             _kernel("parallel" if self.parallel else "serial")
             _kernel("bin")
-            _kernel("unsort")
             _kernel("bounds")
+            _kernel("unsort")
         return self
 
     def __call__(self, points, *, prune: bool | None = None) -> np.ndarray:
@@ -933,10 +1032,13 @@ class CompiledSolid:
         lo, hi = _kernel("bounds")(flat)
         g = int(min(MAX_BINS_PER_AXIS, max(1, round((n / POINTS_PER_BIN) ** (1.0 / 3.0)))))
         ext = np.maximum(hi - lo, 1e-300)
-        sorted_pts, order, starts, box_lo, box_hi = _kernel("bin")(flat, lo, g / ext * (1.0 - 1e-12), g)
-        active = _flags(self.tape.flags, box_lo, box_hi)
-        values = _call(kernel, self.tape, sorted_pts, np.empty(0, np.int64), starts, active, self.nthreads)
-        return _kernel("unsort")(values, order)
+        with _Workspace(n) as (cell, order, sorted_pts, values):
+            starts, box_lo, box_hi = _kernel("bin")(flat, lo, g / ext * (1.0 - 1e-12), g, cell, order, sorted_pts)
+            active = _flags(self.tape, box_lo, box_hi, kernel)
+            _call(kernel, self.tape, sorted_pts, _NO_ORDER, starts, active, self.nthreads, out=values)
+            out = np.empty(n)
+            _kernel("unsort")(values, order, out)
+            return out
 
     def __repr__(self) -> str:
         return (f"CompiledSolid({self.solid.kind}, nodes={self.solid.count_nodes()}, "
