@@ -69,9 +69,9 @@ def _family_params(name):
     return family(name).parameters
 
 
-def _fmt_vec(v) -> str:
-    return "(" + ", ".join("-inf" if x is None and i == 0 else "inf" if x is None else f"{x:g}"
-                           for i, x in enumerate(v)) + ")"
+def _fmt_vec(v, infinite: str) -> str:
+    """A corner as text; `infinite` ("-inf" or "inf") stands for None."""
+    return "(" + ", ".join(infinite if x is None else f"{x:g}" for x in v) + ")"
 
 
 def _text(name: str, solid, show_tree: bool) -> list[str]:
@@ -89,7 +89,7 @@ def _text(name: str, solid, show_tree: bool) -> list[str]:
         lines.append("bounds: empty")
     else:
         lo, hi = info["bounds"]
-        text = f"bounds: {_fmt_vec(lo)} .. {_fmt_vec(hi)}"
+        text = f"bounds: {_fmt_vec(lo, '-inf')} .. {_fmt_vec(hi, 'inf')}"
         if info["bounds_state"] == "finite":
             size = np.subtract(hi, lo)
             text += f"  size {size[0]:g} x {size[1]:g} x {size[2]:g}"
