@@ -150,11 +150,13 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
         cand &= movable
         if not cand.any():
             break
-        # Independent set: a vertex moves only if it is the smallest candidate of all its elements.
-        key = np.where(cand[tets], tets, n)
+        # Independent set: a vertex moves only if it has the smallest priority among the
+        # candidates of all its elements (priorities drawn anew each round, so all get turns).
+        prio = rng.permutation(n)
+        key = np.where(cand[tets], prio[tets], n)
         tmin = key.min(axis=1)
         blocked = np.zeros(n, dtype=bool)
-        blocked[flat[tmin[np.arange(flat.size) // 4] != flat]] = True
+        blocked[flat[tmin[np.arange(flat.size) // 4] != prio[flat]]] = True
         verts = np.nonzero(cand & ~blocked)[0]
         if verts.size == 0:
             break
