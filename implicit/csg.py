@@ -256,6 +256,8 @@ def union(*solids: Solid) -> Solid:
     2
     """
     _check(solids, "union")
+    if not solids:
+        raise ValueError("union: expected at least one solid")
     flat = []
     for s in solids:
         flat.extend(s.children if type(s) is Union else (s,))
@@ -266,6 +268,8 @@ def union(*solids: Solid) -> Solid:
 def intersection(*solids: Solid) -> Solid:
     """Intersection of solids (``a & b & ...``); nested ones are flattened."""
     _check(solids, "intersection")
+    if not solids:
+        raise ValueError("intersection: expected at least one solid")
     flat = []
     for s in solids:
         flat.extend(s.children if type(s) is Intersection else (s,))

@@ -192,7 +192,7 @@ class FamilyInstance(Solid):
 
     def __init__(self, name: str, params: dict | None = None):
         fam = family(name)
-        values = fam.resolve(dict(params or {}))
+        values = fam.resolve({} if params is None else params)
         built = fam.build(**values)
         super().__init__((built,), {"family": fam.name, "params": values}, built.bounds,
                          exact=built.exact, lipschitz=built.lipschitz)
@@ -202,7 +202,7 @@ class FamilyInstance(Solid):
         """Rebuild from ``{"family": ..., "params": {...}}`` (children ignored)."""
         extra = set(params) - {"family", "params"}
         if extra:
-            raise ValueError(f"family: unexpected keys {sorted(extra)}; expected 'family' and 'params'")
+            raise ValueError(f"unexpected keys {sorted(extra)} in a family node; expected 'family' and 'params'")
         return cls(params.get("family"), params.get("params", {}))
 
     @property

@@ -56,6 +56,8 @@ class _Primitive(Solid):
     """A leaf of the tree, exact unless stated otherwise."""
 
     __slots__ = ()
+    #: Leaves take no operands (checked when a tree is read from JSON).
+    takes_children = False
 
     def __init__(self, params, bounds, *, exact=True, lipschitz=1.0):
         super().__init__((), params, bounds, exact=exact, lipschitz=lipschitz)

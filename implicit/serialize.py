@@ -177,6 +177,8 @@ def from_dict(data: Any, *, max_depth: int = MAX_DEPTH, max_nodes: int = MAX_NOD
         raw = node.get("children", [])
         if not isinstance(raw, list):
             raise TypeError(f"{path_s}.children: expected an array, got {_describe(raw)}")
+        if raw and not getattr(cls, "takes_children", True):
+            raise ValueError(f"{path_s}.children: a {kind} node is a leaf and takes no children")
         if raw and not getattr(cls, "serialize_children", True):
             raise ValueError(f"{path_s}.children: a {kind} node is rebuilt from its parameters and takes no children")
         params = {k: v for k, v in node.items() if k not in FORMAT_KEYS}

@@ -600,6 +600,7 @@ class Extrude(Solid):
     """
 
     kind = "extrude"
+    takes_children = False
     __slots__ = ("_profile", "_rot", "_c", "_hh")
 
     def __init__(self, profile, height, center=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0)):
@@ -662,6 +663,7 @@ class Revolve(Solid):
     """
 
     kind = "revolve"
+    takes_children = False
     __slots__ = ("_profile", "_meridian", "_rot", "_c", "_alpha", "_half")
 
     def __init__(self, profile, angle=360.0, center=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0)):
