@@ -20,6 +20,9 @@ from .csg import (
 from .transforms import translate, rotate, scale, mirror, affine, rotation_matrix
 from .modifiers import offset, shell
 from .sweeps import Profile, circle, rectangle, polygon, extrude, revolve
+from .parametric_solids import (
+    curve_profile, revolve_curve, extrude_curve, sweep, thicken, surface_solid, volume_solid,
+)
 
 __all__ = [
     "Solid", "INFINITE_BOUNDS",
@@ -30,4 +33,5 @@ __all__ = [
     "smooth_union", "smooth_intersection", "smooth_difference",
     "translate", "rotate", "scale", "mirror", "affine", "rotation_matrix",
     "offset", "shell",
+    "curve_profile", "revolve_curve", "extrude_curve", "sweep", "thicken", "surface_solid", "volume_solid",
 ]
