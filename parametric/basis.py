@@ -255,25 +255,81 @@ def basis_funs(knots, degree, span, u):
     -------
     (N, degree + 1) float array; row sums are 1 (partition of unity).
     """
+    N = _basis_levels(knots, degree, span, u)[-1]
+    return np.ascontiguousarray(N.T)
+
+
+def _basis_levels(knots, degree, span, u):
+    """A2.2 on row-major ``(q + 1, N)`` arrays; returns the functions of every degree."""
     p = degree
     U = knots
-    N = np.empty((u.shape[0], p + 1))
-    N[:, 0] = 1.0
-    left = np.empty((u.shape[0], p + 1))
-    right = np.empty((u.shape[0], p + 1))
+    m = u.shape[0]
+    N = np.empty((p + 1, m))
+    N[0] = 1.0
+    left = np.empty((p + 1, m))
+    right = np.empty((p + 1, m))
+    levels = [N[:1].copy()]
     for j in range(1, p + 1):
-        left[:, j] = u - U[span + 1 - j]
-        right[:, j] = U[span + j] - u
-        saved = np.zeros(u.shape[0])
+        left[j] = u - U[span + 1 - j]
+        right[j] = U[span + j] - u
+        saved = np.zeros(m)
         for r in range(j):
-            temp = N[:, r] / (right[:, r + 1] + left[:, j - r])
-            N[:, r] = saved + right[:, r + 1] * temp
-            saved = left[:, j - r] * temp
-        N[:, j] = saved
-    return N
+            temp = N[r] / (right[r + 1] + left[j - r])
+            N[r] = saved + right[r + 1] * temp
+            saved = left[j - r] * temp
+        N[j] = saved
+        levels.append(N[:j + 1].copy())
+    return levels
 
 
 def ders_basis_funs(knots, degree, span, u, n_ders):
+    """Basis functions and their derivatives up to ``n_ders`` (vectorized).
+
+    The derivative recurrence behind A2.3 (eq. 2.9),
+    ``N'_{j,q} = q N_{j,q-1} / (U_{j+q} - U_j) - q N_{j+1,q-1} / (U_{j+q+1} - U_{j+1})``,
+    is applied ``k`` times to the degree ``p - k`` functions, with whole
+    ``(N, q)`` arrays per step; :func:`_ders_basis_funs_a23` is the literal A2.3.
+
+    Parameters
+    ----------
+    knots : (m,) float
+    degree : int
+    span : (N,) int
+    u : (N,) float
+    n_ders : int
+        Highest derivative order; orders above ``degree`` are zero.
+
+    Returns
+    -------
+    (N, n_ders + 1, degree + 1) float array: ``ders[:, k, j]`` is the ``k``-th
+    derivative of ``N_{span - p + j, p}`` at ``u``.
+    """
+    p = degree
+    U = knots
+    m = u.shape[0]
+    levels = _basis_levels(U, p, span, u)  # levels[q]: (q + 1, m)
+    ders = np.zeros((n_ders + 1, p + 1, m))
+    ders[0] = levels[p]
+    top = min(n_ders, p)
+    # inverse knot differences q / (U[span + s] - U[span - q + s]), s = 0..q+1, per degree q
+    inv = {}
+    for q in range(p - top + 1, p + 1):
+        s = np.arange(q + 2)[:, None]
+        d = U[np.minimum(span[None, :] + s, U.size - 1)] - U[span[None, :] - q + s]
+        with np.errstate(divide="ignore"):
+            inv[q] = np.where(d > 0, q / np.where(d > 0, d, 1.0), 0.0)
+    for k in range(1, top + 1):
+        X = levels[p - k]  # functions N_{span-(p-k)..span, p-k}
+        for q in range(p - k + 1, p + 1):
+            Z = np.zeros((q + 2, m))
+            Z[1:q + 1] = X
+            Z *= inv[q]
+            X = Z[:-1] - Z[1:]
+        ders[k] = X
+    return np.ascontiguousarray(np.transpose(ders, (2, 0, 1)))
+
+
+def _ders_basis_funs_a23(knots, degree, span, u, n_ders):
     """Basis functions and their derivatives up to ``n_ders`` (A2.3, vectorized).
 
     Parameters

@@ -77,6 +77,23 @@ def test_bspline_basis_partition_of_unity(p, extra, seed, clamped):
     assert np.max(np.abs(D[2].sum(axis=1))) < 1e-8 * scale
 
 
+@pytest.mark.parametrize("p", [1, 2, 3, 5])
+def test_derivative_recurrence_matches_literal_a23(p):
+    r = rng(p)
+    n = p + 6
+    inner = np.sort(r.uniform(0, 1, n - p - 1))
+    inner[1] = inner[0]  # a double knot
+    U = np.concatenate([np.zeros(p + 1), inner, np.ones(p + 1)])
+    u = np.concatenate([[0.0, 1.0, inner[0]], r.uniform(0, 1, 300)])
+    span = basis.find_span(U, p, n, u)
+    for nd in (0, 1, 2, p + 1):
+        fast = basis.ders_basis_funs(U, p, span, u, nd)
+        ref = basis._ders_basis_funs_a23(U, p, span, u, nd)
+        np.testing.assert_allclose(fast, ref, atol=1e-12 * max(1.0, np.abs(ref).max()))
+    np.testing.assert_allclose(basis.ders_basis_funs(U, p, span, u, 0)[:, 0],
+                               basis.basis_funs(U, p, span, u), atol=0)
+
+
 def test_find_span_matches_definition():
     U = np.array([0, 0, 0, 0.3, 0.3, 0.6, 1, 1, 1.0])
     u = np.array([0.0, 0.1, 0.3, 0.45, 0.6, 0.99, 1.0])
