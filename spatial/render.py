@@ -96,7 +96,9 @@ def _add_part(plotter, mesh, style, color, feature_angle):
     if style == "shaded":
         plotter.add_mesh(mesh, color=color, smooth_shading=True, split_sharp_edges=True,
                          feature_angle=feature_angle)
-        if edges.n_points:
+        # Feature lines of marching-cubes meshes come out ragged along sharp
+        # edges; split normals already show the edges in a shaded picture.
+        if edges.n_points and mesh.n_cells < 5000:
             plotter.add_mesh(edges, color="black", line_width=1.5)
     elif style == "mesh":
         plotter.add_mesh(mesh, color=color, show_edges=True, edge_color="#303030", line_width=0.5)
