@@ -121,7 +121,7 @@ def circle(radius=1.0, center=(0.0, 0.0, 0.0), normal=None, x_axis=None):
     Examples
     --------
     >>> c = circle(3.0, center=(0, 0))
-    >>> float(np.linalg.norm(c(0.37)))
+    >>> round(float(np.linalg.norm(c(0.37))), 12)
     3.0
     """
     return arc(radius, 0.0, 2 * np.pi, center=center, normal=normal, x_axis=x_axis)

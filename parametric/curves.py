@@ -374,8 +374,8 @@ class BSpline(Curve):
     >>> c([0.0, 1.0])
     array([[0., 0.],
            [3., 1.]])
-    >>> c.insert_knot(0.25)(0.3) - c(0.3)
-    array([0., 0.])
+    >>> bool(np.allclose(c.insert_knot(0.25)(0.3), c(0.3), atol=1e-14))
+    True
     """
 
     def __init__(self, control_points, degree, knots=None):
@@ -515,7 +515,7 @@ class NURBS(BSpline):
     --------
     >>> w = np.sqrt(0.5)
     >>> quarter = NURBS([[1, 0], [1, 1], [0, 1]], [1, w, 1], 2)
-    >>> float(np.linalg.norm(quarter(0.3)))
+    >>> round(float(np.linalg.norm(quarter(0.3))), 12)
     1.0
     """
 

@@ -111,9 +111,11 @@ def project_to_curve(curve, points, *, samples=None, iterations=30, tol=PROJECTI
             moved = np.minimum(moved, span - moved)
         u[active] = new
         active = active[moved > tol * span]
-    better = d_prev < np.einsum("nd,nd->n", curve(u) - P, curve(u) - P)
-    u = np.where(better, u_prev, u)
     closest = curve(u)
+    better = d_prev < np.einsum("nd,nd->n", closest - P, closest - P)
+    if np.any(better):
+        u[better] = u_prev[better]
+        closest[better] = curve(u[better])
     dist = np.linalg.norm(closest - P, axis=1)
     if scalar:
         return u[0], closest[0], dist[0]
@@ -241,11 +243,11 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
             mv_ = np.minimum(mv_, lv - mv_)
         u[active], v[active] = nu_, nv_
         active = active[np.maximum(mu_ / lu, mv_ / lv) > tol]
-    rr = surface(u, v) - P
-    better = d_prev < dot(rr, rr)
-    u = np.where(better, u_prev, u)
-    v = np.where(better, v_prev, v)
     closest = surface(u, v)
+    better = d_prev < dot(closest - P, closest - P)
+    if np.any(better):
+        u[better], v[better] = u_prev[better], v_prev[better]
+        closest[better] = surface(u[better], v[better])
     dist = np.linalg.norm(closest - P, axis=1)
     uv = np.stack([u, v], axis=1)
     if scalar:

@@ -266,7 +266,9 @@ class CoonsPatch(Surface):
         Boundaries at ``u = 0`` and ``u = 1``, parametrized by ``v``.
         Curve objects are reparametrized onto [0, 1]; plain callables take
         ``u`` in [0, 1] and return ``(n, 3)``.
-    blend : {"linear", "cubic"}
+    blend : {"linear", "bilinear", "cubic"}
+        ``"linear"`` and ``"bilinear"`` name the same patch: linear blends in
+        each direction give the bilinearly blended Coons patch.
     tol : float
         Allowed corner mismatch relative to the patch size.
 
@@ -287,9 +289,9 @@ class CoonsPatch(Surface):
         self._c1 = _as_curve(c1, "c1")
         self._d0 = _as_curve(d0, "d0")
         self._d1 = _as_curve(d1, "d1")
-        if blend not in ("linear", "cubic"):
-            raise ValueError(f"blend must be 'linear' or 'cubic', got {blend!r}")
-        self._blend = blend
+        if blend not in ("linear", "bilinear", "cubic"):
+            raise ValueError(f"blend must be 'linear' (alias 'bilinear') or 'cubic', got {blend!r}")
+        self._blend = "linear" if blend == "bilinear" else blend
         ends = np.array([0.0, 1.0])
         c0e = _curve_derivs(self._c0, ends, 0)[:, 0]
         c1e = _curve_derivs(self._c1, ends, 0)[:, 0]

@@ -384,7 +384,7 @@ def sphere(radius=1.0, center=(0.0, 0.0, 0.0)):
     Examples
     --------
     >>> s = sphere(2.0)
-    >>> float(np.linalg.norm(s(0.3, 0.6)))
+    >>> round(float(np.linalg.norm(s(0.3, 0.6))), 12)
     2.0
     """
     r = float(radius)
