@@ -5,4 +5,8 @@ from .grid import OccupancyGrid  # noqa: F401
 from .boundary import mesh  # noqa: F401
 from .io import save_mesh, load_mesh, mesh_to_solid, save_vdb, load_vdb  # noqa: F401
 from .mass import MassProperties, mass_properties  # noqa: E402,F401
+from .analysis import Topology, ValidityReport, topology, check  # noqa: F401
+# (the functions `section` and `interference` stay in their modules, whose names they share)
+from .section import Section  # noqa: F401
+from .interference import Interference, check_assembly  # noqa: F401
 from .fea import surface_for_fea, surface_quality, tet_mesh, TetMesh, TetQuality, write_fea  # noqa: F401
