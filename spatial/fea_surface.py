@@ -588,7 +588,8 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         if nsub:
             clus.subdivide(nsub)
         clus.cluster(nclus)
-        out = clus.create_mesh()
+        # Cluster centres are projected onto the solid below; without one, pyacvd moves them.
+        out = clus.create_mesh(moveclus=solid is None)
     pts, faces = np.asarray(out.points, dtype=np.float64), mesh_faces(out)
     if not _is_closed_manifold(faces):
         pts, faces = _repair(pts, faces)

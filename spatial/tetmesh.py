@@ -139,9 +139,8 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
     starts = np.searchsorted(vert_sorted, np.arange(n + 1))
     target = min_dihedral + 1.0
     n_trials = 24
+    score = _score(dihedral_angles(pts, tets), min_dihedral, max_dihedral)
     for _ in range(rounds):
-        d = dihedral_angles(pts, tets)
-        score = _score(d, min_dihedral, max_dihedral)
         bad = score < target
         if not bad.any():
             break
@@ -201,9 +200,10 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
                 best_score = np.where(better, worst, best_score)
                 best[better] = j
         pts[verts] = trials[best, np.arange(verts.size)]
-        if not np.any(best):
-            # Nothing improved this round; new random trials may still help.
-            continue
+        # Only the elements around moved vertices change their score.
+        touched = np.unique(pair_tet[best[pair_v] != 0])
+        if touched.size:
+            score[touched] = _score(dihedral_angles(pts, tets[touched]), min_dihedral, max_dihedral)
     return pts
 
 
