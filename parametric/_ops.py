@@ -9,6 +9,7 @@ References are to The NURBS Book (Piegl and Tiller, 2nd ed.).
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import solve_banded
 
 from .basis import (KNOT_TOL, basis_funs, basis_matrix, ders_basis_funs, find_span,
                     greville)
@@ -163,10 +164,18 @@ def collocate(func, U_new, p_new):
     g = greville(U_new, p_new)
     a, b = domain(U_new, p_new)
     g = np.clip(g, a, b)
-    A = basis_matrix(U_new, p_new, n1, g)
     vals = func(g)
     tail = vals.shape[1:]
-    Q = np.linalg.solve(A, vals.reshape(n1, -1))
+    # the collocation matrix is banded: row i holds N_{span-p..span}(g_i)
+    span = find_span(U_new, p_new, n1, g)
+    N = basis_funs(U_new, p_new, span, g)
+    rows = np.arange(n1)[:, None]
+    cols = span[:, None] - p_new + np.arange(p_new + 1)
+    lower = int(max(0, np.max(rows - cols)))
+    upper = int(max(0, np.max(cols - rows)))
+    ab = np.zeros((lower + upper + 1, n1))
+    ab[upper + rows - cols, cols] = N
+    Q = solve_banded((lower, upper), ab, vals.reshape(n1, -1))
     return Q.reshape((n1,) + tail)
 
 

@@ -393,18 +393,24 @@ def make_compatible(curves):
         cs = [c.to_nurbs() for c in cs]
     p = max(c.degree for c in cs)
     cs = [c.elevate_degree(p - c.degree) if c.degree < p else c for c in cs]
-    mult = {}
+    mult, value = {}, {}
     for c in cs:
         vals, counts = _ops.distinct_interior(np.asarray(c.knots), p)
         for v, k in zip(vals.tolist(), counts.tolist()):
             key = round(v, 12)
+            value.setdefault(key, v)
             mult[key] = max(mult.get(key, 0), k)
     out = []
     for c in cs:
         vals, counts = _ops.distinct_interior(np.asarray(c.knots), p)
         have = {round(v, 12): k for v, k in zip(vals.tolist(), counts.tolist())}
-        X = np.repeat(list(mult.keys()), [mult[k] - have.get(k, 0) for k in mult]) if mult else []
-        out.append(c.refine_knots(np.asarray(X, dtype=float)) if len(X) else c)
+        X = [value[k] for k in mult for _ in range(mult[k] - have.get(k, 0))]
+        c = c.refine_knots(np.asarray(X, dtype=float)) if X else c
+        # snap knots that agree to 1e-12 onto one shared value
+        U = np.array(c.knots)
+        inner = slice(p + 1, U.size - p - 1)
+        U[inner] = [value.get(round(x, 12), x) for x in U[inner]]
+        out.append(c._from_ctrl(c._ctrl(), p, U))
     return out
 
 
