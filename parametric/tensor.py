@@ -335,7 +335,7 @@ def _unit_axis(axis):
     return a / np.linalg.norm(a)
 
 
-def surface_of_revolution(profile, axis_point=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0),
+def surface_of_revolution(profile, axis=(0.0, 0.0, 1.0), *, axis_point=(0.0, 0.0, 0.0),
                           angle=2 * np.pi):
     """Exact NURBS surface sweeping ``profile`` about an axis (A8.1).
 
@@ -348,8 +348,10 @@ def surface_of_revolution(profile, axis_point=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1
     Parameters
     ----------
     profile : BSpline or NURBS, 3-D
-    axis_point : (3,) float
     axis : (3,) float
+        Direction of the axis; the surface turns counter-clockwise about it.
+    axis_point : (3,) float
+        A point of the axis.
     angle : float, radians in (0, 2 pi]
 
     Returns
@@ -392,7 +394,7 @@ def sphere(radius=1.0, center=(0.0, 0.0, 0.0)):
         raise ValueError(f"radius must be > 0, got {radius}")
     c = np.asarray(center, dtype=float).ravel()
     prof = arc(r, -np.pi / 2, np.pi, center=c, normal=(0.0, -1.0, 0.0), x_axis=(1.0, 0.0, 0.0))
-    return surface_of_revolution(prof, c, (0.0, 0.0, 1.0))
+    return surface_of_revolution(prof, (0.0, 0.0, 1.0), axis_point=c)
 
 
 def cylinder(radius=1.0, height=1.0, center=(0.0, 0.0, 0.0)):
@@ -402,7 +404,7 @@ def cylinder(radius=1.0, height=1.0, center=(0.0, 0.0, 0.0)):
         raise ValueError(f"radius and height must be > 0, got {radius}, {height}")
     c = np.asarray(center, dtype=float).ravel()
     prof = NURBS([c + [r, 0.0, 0.0], c + [r, 0.0, h]], [1.0, 1.0], 1)
-    return surface_of_revolution(prof, c, (0.0, 0.0, 1.0))
+    return surface_of_revolution(prof, (0.0, 0.0, 1.0), axis_point=c)
 
 
 def torus(major_radius=2.0, minor_radius=0.5, center=(0.0, 0.0, 0.0)):
@@ -413,4 +415,4 @@ def torus(major_radius=2.0, minor_radius=0.5, center=(0.0, 0.0, 0.0)):
     c = np.asarray(center, dtype=float).ravel()
     prof = arc(r, 0.0, 2 * np.pi, center=c + [R, 0.0, 0.0], normal=(0.0, -1.0, 0.0),
                x_axis=(1.0, 0.0, 0.0))
-    return surface_of_revolution(prof, c, (0.0, 0.0, 1.0))
+    return surface_of_revolution(prof, (0.0, 0.0, 1.0), axis_point=c)

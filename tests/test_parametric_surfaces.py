@@ -174,6 +174,24 @@ def test_surface_of_revolution_of_a_line_is_a_cone():
         surface_of_revolution(lambda u: u)
 
 
+def test_partial_revolution_about_an_offset_axis():
+    prof = NURBS([[0.0, 2.0, 0.0], [1.0, 2.0, 1.0], [2.0, 3.0, 0.0]], [1.0, 0.5, 1.0], 2)
+    A, a = np.array([0.0, 1.0, 0.0]), np.array([1.0, 0.0, 0.0])
+    s = surface_of_revolution(prof, a, axis_point=A, angle=np.pi / 2)
+    u, v = UV
+    p = s(u, v)
+    q = prof(v)
+    # every point keeps its axial coordinate and its distance to the axis
+    np.testing.assert_allclose(p[:, 0], q[:, 0], atol=1e-14 * 10)
+    rad = lambda x: np.linalg.norm((x - A) - np.outer((x - A) @ a, a), axis=1)  # noqa: E731
+    np.testing.assert_allclose(rad(p), rad(q), atol=1e-13)
+    np.testing.assert_allclose(s(np.zeros_like(v), v), q, atol=1e-13)
+    # a quarter turn counter-clockwise about +x maps (y - 1, z) to (-z, y - 1)
+    end = s(np.ones_like(v), v)
+    np.testing.assert_allclose(end[:, 1] - 1.0, -q[:, 2], atol=1e-13)
+    np.testing.assert_allclose(end[:, 2], q[:, 1] - 1.0, atol=1e-13)
+
+
 # --------------------------------------------------------------------------- tensor products
 
 def random_surface(seed=0, rational=False, nu=7, nv=6, p=3, q=2):
