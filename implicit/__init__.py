@@ -23,6 +23,7 @@ from .sweeps import Profile, circle, rectangle, polygon, extrude, revolve
 from .parametric_solids import (
     curve_profile, revolve_curve, extrude_curve, sweep, thicken, surface_solid, volume_solid,
 )
+from .star_solids import star_solid, fit_radial_function
 
 __all__ = [
     "Solid", "INFINITE_BOUNDS",
@@ -34,4 +35,5 @@ __all__ = [
     "translate", "rotate", "scale", "mirror", "affine", "rotation_matrix",
     "offset", "shell",
     "curve_profile", "revolve_curve", "extrude_curve", "sweep", "thicken", "surface_solid", "volume_solid",
+    "star_solid", "fit_radial_function",
 ]

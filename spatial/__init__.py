@@ -10,3 +10,6 @@ from .analysis import Topology, ValidityReport, topology, check  # noqa: F401
 from .section import Section  # noqa: F401
 from .interference import Interference, check_assembly  # noqa: F401
 from .fea import surface_for_fea, surface_quality, tet_mesh, TetMesh, TetQuality, write_fea  # noqa: F401
+from .convert import (  # noqa: F401
+    fit_section_curve, loft_sections, fit_star_surface, surface_to_mesh, curve_to_polydata, isoparametric_polydata,
+)
