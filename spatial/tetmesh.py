@@ -122,7 +122,8 @@ def _score(d, min_dihedral, max_dihedral):
     return np.minimum(lo, hi)
 
 
-def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, seed=0, solid=None, slide=None):
+def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, seed=0, solid=None, slide=None,
+             jitter=1.0):
     """Smooth movable vertices of bad elements until no element is bad or nothing moves.
 
     Each round takes an independent set of candidate vertices (no two in one
@@ -177,7 +178,7 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
         cur = pts[verts]
         trials = [cur, nbr_mean, 0.5 * (cur + nbr_mean)]
         for k in range(n_trials):
-            scale = (0.05 + 0.25 * (k % 4) / 3.0) * edge
+            scale = (0.05 + 0.25 * (k % 4) / 3.0) * jitter * edge
             trials.append(cur + rng.normal(size=cur.shape) * scale[:, None] / np.sqrt(3.0))
         trials = np.stack(trials)  # (t, k, 3)
         if slide is not None:
@@ -487,6 +488,12 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
         if peeled:
             info["peeled"] = peeled
             bfaces, belem, bside = _boundary_faces(elems)
+        for extra in range(3):
+            # Stubborn slivers: more rounds with fresh random trials.
+            if not np.any(_score(dihedral_angles(nodes, elems), min_dihedral, max_dihedral) < min_dihedral):
+                break
+            nodes = _improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 2 + extra,
+                             solid=solid, slide=slide, rounds=80, jitter=1.0 + extra)
     if np.any(tet_volumes(nodes, elems) <= 0):
         raise ValueError("tet_mesh: an element is inverted after meshing (zero or negative volume)")
     tets = elems
