@@ -198,6 +198,17 @@ def clamp(U, p, P):
 
 
 def elevate(U, p, P, t):
+    """Degree elevation by ``t`` (decomposition + Bezier elevation + knot removal).
+
+    Falls back to :func:`elevate_collocation` if rounding stops a removal.
+    """
+    try:
+        return elevate_by_decomposition(U, p, P, t)
+    except ArithmeticError:
+        return elevate_collocation(U, p, P, t)
+
+
+def elevate_collocation(U, p, P, t):
     """Degree elevation by ``t``: every distinct knot gains ``t`` in multiplicity.
 
     The elevated curve lies in the spline space of degree ``p + t`` whose knot
@@ -285,3 +296,119 @@ def poly_eval(table, u):
     """Evaluate a :class:`PolyTable`; returns (N, *tail)."""
     res = table(u)
     return res.T.reshape((u.shape[0],) + table.tail)
+
+
+# --------------------------------------------------------------------------- knot removal
+
+def remove_knot(U, p, P, u, num, tol):
+    """Remove interior knot ``u`` up to ``num`` times (A5.8).
+
+    A removal is accepted when the curve moves by at most ``tol`` (checked on the
+    control points, which bounds the curve change by the convex hull property).
+
+    Returns
+    -------
+    (U', P', removed) with ``removed <= num``.
+    """
+    a, b = domain(U, p)
+    if not (a < u < b):
+        raise ValueError(f"u must lie strictly inside the domain ({a}, {b}) to be removed, got {u}")
+    tolk = KNOT_TOL * max(1.0, float(np.max(np.abs(U))))
+    hit = np.nonzero(np.abs(U - u) <= tolk)[0]
+    if hit.size == 0:
+        raise ValueError(f"u = {u} is not a knot")
+    r = int(hit[-1])
+    s = hit.size
+    u = float(U[r])
+    n = P.shape[0] - 1
+    m = n + p + 1
+    order = p + 1
+    fout = (2 * r - s - p) // 2
+    last = r - s
+    first = r - p
+    Pw = P.astype(float).copy()
+    temp = np.empty((2 * p + 1,) + P.shape[1:])
+    t = 0
+    for t in range(num + 1):
+        if t == num or t >= s:
+            break
+        off = first - 1
+        temp[0] = Pw[off]
+        temp[last + 1 - off] = Pw[last + 1]
+        i, j = first, last
+        ii, jj = 1, last - off
+        while j - i > t:
+            alfi = (u - U[i]) / (U[i + order + t] - U[i])
+            alfj = (u - U[j - t]) / (U[j + order] - U[j - t])
+            temp[ii] = (Pw[i] - (1.0 - alfi) * temp[ii - 1]) / alfi
+            temp[jj] = (Pw[j] - alfj * temp[jj + 1]) / (1.0 - alfj)
+            i += 1
+            ii += 1
+            j -= 1
+            jj -= 1
+        if j - i < t:
+            ok = np.max(np.abs(temp[ii - 1] - temp[jj + 1])) <= tol
+        else:
+            alfi = (u - U[i]) / (U[i + order + t] - U[i])
+            ok = np.max(np.abs(Pw[i] - (alfi * temp[ii + t + 1] + (1.0 - alfi) * temp[ii - 1]))) <= tol
+        if not ok:
+            break
+        i, j = first, last
+        while j - i > t:
+            Pw[i] = temp[i - off]
+            Pw[j] = temp[j - off]
+            i += 1
+            j -= 1
+        first -= 1
+        last += 1
+    else:
+        t = num
+    if t == 0:
+        return U.copy(), P.copy(), 0
+    Un = np.concatenate([U[:r - t + 1], U[r + 1:]])
+    j = fout
+    i = j
+    for k in range(1, t):
+        if k % 2 == 1:
+            i += 1
+        else:
+            j -= 1
+    keep = np.concatenate([Pw[:j], Pw[i + 1:n + 1]])
+    assert keep.shape[0] == n + 1 - t and Un.size == m + 1 - t
+    return Un, keep, t
+
+
+def bezier_elevate(Q, t):
+    """Raise a Bezier control array ``(p + 1, ...)`` by ``t`` degrees (eq. 5.36)."""
+    for _ in range(t):
+        n = Q.shape[0] - 1
+        i = (np.arange(1, n + 1) / (n + 1.0)).reshape((-1,) + (1,) * (Q.ndim - 1))
+        Q = np.concatenate([Q[:1], i * Q[:-1] + (1.0 - i) * Q[1:], Q[-1:]])
+    return Q
+
+
+def elevate_by_decomposition(U, p, P, t, tol=None):
+    """Degree elevation: Bezier decomposition, Bezier elevation, knot removal.
+
+    Each distinct interior knot of multiplicity ``m`` ends with multiplicity
+    ``m + t`` (The NURBS Book, section 5.5); the removals are exact in exact
+    arithmetic, so ``tol`` only absorbs rounding (default ``1e-9`` of the control
+    polygon's size).
+    """
+    segs = bezier_segments(U, p, P)
+    q = p + t
+    vals, counts = distinct_interior(clamp(U, p, P)[0], p)
+    parts = [bezier_elevate(Q, t) for _, _, Q in segs]
+    ctrl = np.concatenate([parts[0]] + [Q[1:] for Q in parts[1:]])
+    a, b = segs[0][0], segs[-1][1]
+    Un = np.concatenate([np.full(q + 1, a), np.repeat(vals, q), np.full(q + 1, b)])
+    if tol is None:
+        flat = P.reshape(P.shape[0], -1)
+        tol = 1e-9 * max(1.0, float(np.max(np.ptp(flat, axis=0))))
+    for v, mlt in zip(vals, counts):
+        want = p - mlt
+        if want:
+            Un, ctrl, done = remove_knot(Un, q, ctrl, float(v), want, tol)
+            if done != want:
+                raise ArithmeticError(f"knot {v} removal stopped after {done} of {want}")
+    return Un, ctrl

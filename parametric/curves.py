@@ -454,11 +454,30 @@ class BSpline(Curve):
         U, Q = _ops.refine(self._U, self._p, self._ctrl(), new_knots)
         return self._from_ctrl(Q, self._p, U)
 
+    def remove_knot(self, u, times=1, *, tol=1e-9):
+        """Remove knot ``u`` ``times`` times (A5.8) if the curve moves by <= ``tol``.
+
+        Raises
+        ------
+        ValueError
+            If ``u`` is not an interior knot, or fewer than ``times`` removals keep
+            the curve within ``tol`` (the message says how many would).
+        """
+        times = _check_degree(times, "times", minimum=1)
+        U, Q, done = _ops.remove_knot(self._U, self._p, self._ctrl(), float(u), times, float(tol))
+        if done < times:
+            raise ValueError(f"knot u={u} can be removed only {done} of {times} time(s) "
+                             f"within tol={tol}")
+        return self._from_ctrl(Q, self._p, U)
+
     def elevate_degree(self, times=1):
         """Raise the degree by ``times``; the curve is unchanged.
 
-        Every distinct interior knot gains ``times`` in multiplicity (so the
-        continuity is kept); the result is clamped on the same domain.
+        The curve is split into Bezier pieces, each piece is elevated (eq. 5.36)
+        and the surplus interior knots are removed again (A5.8), which is the
+        route of section 5.5 of The NURBS Book. Every distinct interior knot
+        gains ``times`` in multiplicity (so the continuity is kept); the result
+        is clamped on the same domain.
         """
         times = _check_degree(times, "times", minimum=0)
         if times == 0:

@@ -367,6 +367,40 @@ def test_elevate_degree_invariance(name, times):
     np.testing.assert_array_equal(m1, m0 + times)
 
 
+@pytest.mark.parametrize("name", ["bspline", "nurbs"])
+def test_remove_knot_undoes_insertion(name):
+    c = CURVES[name]()
+    for x, times in ((0.37, 1), (0.37, 3), (float(c.knots[5]), 2)):
+        d = c.insert_knot(x, times).remove_knot(x, times)
+        np.testing.assert_allclose(d.knots, c.knots, atol=0)
+        np.testing.assert_allclose(d.control_points, c.control_points, atol=EXACT)
+        if name == "nurbs":
+            np.testing.assert_allclose(d.weights, c.weights, atol=EXACT)
+
+
+def test_remove_knot_refuses_to_change_the_curve():
+    c = random_bspline(22)
+    with pytest.raises(ValueError, match="can be removed only 0 of 1"):
+        c.remove_knot(float(c.knots[5]))
+    with pytest.raises(ValueError, match="is not a knot"):
+        c.remove_knot(0.123456)
+
+
+def test_elevation_routes_agree():
+    """Decomposition + Bezier elevation + knot removal equals collocation in the
+    elevated spline space (both give the unique representation)."""
+    from parametric import _ops
+    c = random_nurbs(23, n=12, p=3)
+    U = np.array(c.knots)
+    U[6] = U[5]  # a double knot, continuity C1 there
+    c = NURBS(c.control_points, c.weights, 3, U)
+    for t in (1, 2):
+        Ua, Qa = _ops.elevate_by_decomposition(c.knots, 3, c.homogeneous, t)
+        Ub, Qb = _ops.elevate_collocation(c.knots, 3, c.homogeneous, t)
+        np.testing.assert_allclose(Ua, Ub, atol=0)
+        np.testing.assert_allclose(Qa, Qb, atol=1e-11)
+
+
 @settings(derandomize=True, max_examples=40, deadline=None)
 @given(x=st.floats(0.01, 0.99), times=st.integers(1, 3), seed=st.integers(0, 1000),
        rational=st.booleans())
