@@ -3,10 +3,16 @@
 The sharp operators use ``min`` / ``max`` of the operands' fields; they keep
 the operands' Lipschitz constant and the conservative-bound property (the
 result of exact distances is a bound, exact outside a union and inside an
-intersection).  Regularisation: the boundary of a result is taken as the zero
-set of the combined field, and meshing and mass properties work from the
-field's sign, so a face where two solids only touch carries no area and holds
-no volume (it is not a dangling face of the result).
+intersection).
+
+Regularised booleans: a solid is the closure of its interior ``{f < 0}`` and
+its boundary is the boundary of that closure.  The zero set of a combined
+field can hold more than that: two boxes touching face to face union into a
+field that is 0 on the shared face and negative on both sides of it, so the
+face lies inside the closure of the interior and is not boundary (no internal
+face: meshing from the field's sign sees no sign change across it); the same
+boxes intersect into a field that is ``>= 0`` everywhere, a solid with an empty
+interior (zero volume, no boundary to mesh), not a dangling face.
 
 The smooth variants blend with the polynomial smooth minimum of radius
 ``blend``; they stay 1-Lipschitz.

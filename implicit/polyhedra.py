@@ -38,6 +38,10 @@ __all__ = [
 ]
 
 
+#: Points per block in the (points x faces) distance computations.
+_BLOCK = 2048
+
+
 def triangle_distance(points: np.ndarray, tris: np.ndarray, edges: np.ndarray | None = None) -> np.ndarray:
     """Unsigned distance from each point to the nearest of many triangles.
 
@@ -182,9 +186,11 @@ class _Polytope(_Primitive):
     def _evaluate(self, p):
         planes = (p @ self._n.T - self._d).max(axis=1)
         out = planes.copy()
-        outside = planes > 0
-        if outside.any():
-            out[outside] = triangle_distance(p[outside], self._tris, self._edges)
+        idx = np.flatnonzero(planes > 0)
+        # Blocks of points keep the (points x triangles) temporaries in cache.
+        for start in range(0, idx.size, _BLOCK):
+            sel = idx[start:start + _BLOCK]
+            out[sel] = triangle_distance(p[sel], self._tris, self._edges)
         return out
 
 

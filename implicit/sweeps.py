@@ -44,6 +44,9 @@ __all__ = [
     "rotation_to_axis",
 ]
 
+#: Points per block in the (points x edges) polygon distance.
+_BLOCK = 2048
+
 #: Nesting limit of a profile read from a dict.
 MAX_PROFILE_DEPTH = 100
 
@@ -403,7 +406,10 @@ class Polygon(Profile):
         object.__setattr__(self, "_v", v)
 
     def _evaluate(self, p):
-        return polygon_distance(p, self._v)
+        if len(p) <= _BLOCK:
+            return polygon_distance(p, self._v)
+        # Blocks of points keep the (points x edges) temporaries in cache.
+        return np.concatenate([polygon_distance(p[i:i + _BLOCK], self._v) for i in range(0, len(p), _BLOCK)])
 
     def symmetric(self) -> bool:
         v = self._v
