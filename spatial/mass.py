@@ -285,22 +285,40 @@ def mesh_moments(points, triangles, *, center=None, check: bool = True) -> _Raw:
     if center is None:
         center = 0.5 * (points.min(axis=0) + points.max(axis=0))
     c0 = np.asarray(center, dtype=np.float64)
-    p = points - c0
-    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
-    cross = np.cross(b - a, c - a)
-    area_terms = 0.5 * np.sqrt(np.einsum("ij,ij->i", cross, cross))
-    det = np.einsum("ij,ij->i", a, cross)        # a . ((b - a) x (c - a)) = a . (b x c)
+    a, b, c, cross, area_terms = _corners(points, tri, c0)
+    return _moments_of(a, b, c, cross, area_terms, c0)
+
+
+def _corners(points, tri, c0):
+    """Triangle corners relative to `c0` as (3, m) rows (contiguous per
+    coordinate), their ``(b - a) x (c - a)`` and areas."""
+    pt = np.ascontiguousarray((points - c0).T)
+    a = pt[:, tri[:, 0]]
+    b = pt[:, tri[:, 1]]
+    c = pt[:, tri[:, 2]]
+    u = b - a
+    v = c - a
+    cross = np.empty_like(u)
+    np.subtract(u[1] * v[2], u[2] * v[1], out=cross[0])
+    np.subtract(u[2] * v[0], u[0] * v[2], out=cross[1])
+    np.subtract(u[0] * v[1], u[1] * v[0], out=cross[2])
+    area = 0.5 * np.sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2])
+    return a, b, c, cross, area
+
+
+def _moments_of(a, b, c, cross, area_terms, c0) -> _Raw:
+    det = a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2]     # a . ((b - a) x (c - a)) = a . (b x c)
     s = a + b + c
     volume = det.sum() / 6.0
-    ds = det[:, None] * s
-    m1 = ds.sum(axis=0) / 24.0
-    m2 = (ds.T @ s + (det[:, None] * a).T @ a + (det[:, None] * b).T @ b + (det[:, None] * c).T @ c) / 120.0
+    ds = s * det
+    m1 = ds.sum(axis=1) / 24.0
+    m2 = (ds @ s.T + (a * det) @ a.T + (b * det) @ b.T + (c * det) @ c.T) / 120.0
     # Round-off: each term carries a few ulps; the sum of |terms| bounds the error.
     adet = np.abs(det)
-    scale = 16 * _EPS * (np.sqrt(tri.shape[0]) + 8)
+    scale = 16 * _EPS * (np.sqrt(det.shape[0]) + 8)
     e_volume = scale * adet.sum() / 6.0
-    e_m1 = scale * (adet @ np.abs(s)) / 24.0
-    e_m2 = np.full((3, 3), scale * (adet @ np.einsum("ij,ij->i", s, s)) * 4 / 120.0)
+    e_m1 = scale * (np.abs(s) @ adet) / 24.0
+    e_m2 = np.full((3, 3), scale * (adet @ (s * s).sum(axis=0)) * 4 / 120.0)
     e_area = scale * area_terms.sum()
     return _Raw(c0, float(volume), m1, m2, float(area_terms.sum()),
                 float(e_volume), e_m1, e_m2, float(e_area))
@@ -542,16 +560,19 @@ def shell_correction(solid, points, triangles, *, center) -> np.ndarray:
     """
     pts = np.asarray(points, dtype=np.float64)
     tri = np.asarray(triangles, dtype=np.int64)
-    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
-    cross = np.cross(b - a, c - a)
-    area = 0.5 * np.sqrt(np.einsum("ij,ij->i", cross, cross))
-    # every triangle's three edge midpoints (a shared edge is evaluated twice:
-    # cheaper than sorting the edges to share the value)
-    mids = np.concatenate([a + b, b + c, c + a]) * 0.5
-    w = np.tile(area / 3.0, 3) * -solid(mids)
-    x = mids - center
-    wx = w[:, None] * x
-    return np.concatenate([[w.sum()], wx.sum(axis=0), (wx.T @ x).ravel()])
+    c0 = np.asarray(center, dtype=np.float64)
+    a, b, c, _, area = _corners(pts, tri, c0)
+    return _shell_of(solid, a, b, c, area, c0)
+
+
+def _shell_of(solid, a, b, c, area, c0):
+    # every triangle's three edge midpoints, relative to c0, as (3, 3m) rows
+    # (a shared edge is evaluated twice: cheaper than sorting the edges)
+    x = np.concatenate([a + b, b + c, c + a], axis=1)
+    x *= 0.5
+    w = np.tile(area / 3.0, 3) * -solid((x.T + c0))
+    wx = x * w
+    return np.concatenate([[w.sum()], wx.sum(axis=1), (wx @ x.T).ravel()])
 
 
 def _solid_level(solid, h, c0, mesher, correct=True, check=False) -> np.ndarray:
@@ -559,10 +580,12 @@ def _solid_level(solid, h, c0, mesher, correct=True, check=False) -> np.ndarray:
     if mesh.n_cells == 0:     # a feature thinner than this level's cells
         return np.zeros(14)
     pts, tri = _faces_array(mesh)
-    raw = mesh_moments(pts, tri, center=c0, check=check)
-    vec = raw.vector()
+    if check:
+        _check_closed(tri, pts.shape[0])
+    a, b, c, cross, area = _corners(pts, tri, c0)
+    vec = _moments_of(a, b, c, cross, area, c0).vector()
     if correct:
-        vec[:13] += shell_correction(solid, pts, tri, center=c0)
+        vec[:13] += _shell_of(solid, a, b, c, area, c0)
     return vec
 
 
