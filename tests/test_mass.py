@@ -5,6 +5,7 @@ import json
 import numpy as np
 import pytest
 import pyvista as pv
+from hypothesis import given, settings, strategies as st
 
 from implicit import box, cone, cylinder, sphere, torus
 from spatial.mass import MassProperties, OpenMeshError, UNITS, mass_properties, mesh_moments
@@ -125,8 +126,8 @@ def test_rotation_rotates_inertia():
 
 
 def test_open_mesh_refused():
-    mesh = pv.Sphere(theta_resolution=12, phi_resolution=12).triangulate()
-    open_mesh = mesh.extract_cells(np.arange(1, mesh.n_cells)).extract_surface()
+    mesh = pv.Sphere(theta_resolution=12, phi_resolution=12).triangulate().clean()
+    open_mesh = pv.PolyData(mesh.points, mesh.faces.reshape(-1, 4)[1:].ravel())
     with pytest.raises(OpenMeshError, match="not closed"):
         mass_properties(open_mesh)
 
@@ -326,3 +327,33 @@ def test_occupancy_grid_fractional_occupancy(name):
     assert abs(p.volume - V) / V < 3e-3                 # second order, far inside the bound
     assert p.area == pytest.approx(A, rel=2e-2)         # co-area estimate
     assert p.voxel_size == pytest.approx(grid.voxel_size)
+
+
+def test_far_from_origin_smooth_part():
+    far = np.array([1e6, -2e6, 5e5])
+    s, V, _, c, moments, _, size = PARTS["torus"]
+    p = mass_properties(s.translate(far), resolution=64, mesher=MESHER)
+    assert np.abs(p.centroid - far).max() <= CENTROID_TOL * size
+    assert p.volume == pytest.approx(V, rel=SMOOTH_TOL)
+    np.testing.assert_allclose(p.principal_moments, moments, rtol=SMOOTH_TOL)
+
+
+
+@settings(derandomize=True, max_examples=25, deadline=None)
+@given(angles=st.tuples(*[st.floats(-np.pi, np.pi)] * 3),
+       shift=st.tuples(*[st.floats(-1e3, 1e3)] * 3))
+def test_rigid_motion_law(angles, shift):
+    """A rigid motion moves the centroid and rotates the inertia tensor exactly."""
+    mesh = pv.Box((0, 2, 0, 1, 0, 0.5)).triangulate().clean()
+    base = mass_properties(mesh)
+    ax, ay, az = angles
+    rx = np.array([[1, 0, 0], [0, np.cos(ax), -np.sin(ax)], [0, np.sin(ax), np.cos(ax)]])
+    ry = np.array([[np.cos(ay), 0, np.sin(ay)], [0, 1, 0], [-np.sin(ay), 0, np.cos(ay)]])
+    rz = np.array([[np.cos(az), -np.sin(az), 0], [np.sin(az), np.cos(az), 0], [0, 0, 1]])
+    rot = rz @ ry @ rx
+    moved = pv.PolyData(mesh.points @ rot.T + np.array(shift), mesh.faces)
+    p = mass_properties(moved)
+    assert p.volume == pytest.approx(base.volume, rel=1e-11)
+    np.testing.assert_allclose(p.centroid, rot @ base.centroid + shift, atol=1e-9)
+    np.testing.assert_allclose(p.inertia, rot @ base.inertia @ rot.T, atol=1e-10)
+    np.testing.assert_allclose(p.principal_moments, base.principal_moments, rtol=1e-9)
