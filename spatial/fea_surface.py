@@ -491,7 +491,8 @@ def _tangential_relax(solid, points, faces, fixed, iterations=3):
     return p
 
 
-def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None):
+def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
+                    check_intersections=True):
     """A closed, outward, uniform triangle surface of target edge length `size`.
 
     The pipeline: merge duplicate points and drop degenerate triangles;
@@ -516,6 +517,9 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         is raised when the result deviates more.  Needs a solid.
     voxel_size : float, optional
         Cell size used to mesh a `Solid` first (default ``size / 4``).
+    check_intersections : bool
+        Test the result for self-intersecting triangles (pymeshfix) and raise
+        when there are any.
 
     Returns
     -------
@@ -528,7 +532,8 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
     TypeError
         When `solid_or_mesh` is neither a Solid nor a PolyData.
     ValueError
-        When `size` is not positive, or the deviation exceeds `max_deviation`.
+        When `size` is not positive, the deviation exceeds `max_deviation`,
+        or the result intersects itself.
 
     Examples
     --------
@@ -615,6 +620,11 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         if max_deviation is not None and dev > max_deviation:
             raise ValueError(f"max_deviation: the remeshed surface deviates {dev:.3g} from the solid, "
                              f"more than {max_deviation:.3g}; use a smaller size")
+    if check_intersections:
+        crossing = self_intersections(result)
+        if crossing:
+            raise ValueError(f"size: the remeshed surface has {crossing} self-intersecting triangles at size "
+                             f"{size:g}; use a smaller size")
     return result
 
 
