@@ -91,7 +91,7 @@ def test_value_bounds_contain_every_sampled_value(name, centre, half, seed):
 def test_every_node_is_lipschitz_with_its_constant(name):
     solid = CATALOG[name]
     rng = np.random.default_rng(3)
-    a = _points(4, 20000)
+    a = _points(4, 10000)
     b = a + rng.normal(size=a.shape) * rng.uniform(1e-4, 0.3, (len(a), 1))
     ratio = np.abs(solid(a) - solid(b)) / np.linalg.norm(a - b, axis=1)
     assert ratio.max() <= solid.lipschitz + 1e-9
