@@ -271,6 +271,14 @@ class PolyTable:
         steps = np.diff(knots_in)
         self.uniform = bool(np.all(steps > 0) and np.ptp(steps) <= 1e-12 * (b - a))
         self.h = (b - a) / (n1 - p)
+        if not self.uniform:
+            # bucket table: span at the left edge of K equal cells, then a few
+            # vectorized corrections (cells narrower than the shortest span need one)
+            shortest = float(np.min(steps[steps > 0]))
+            K = int(min(1 << 18, max(64, np.ceil(2.0 * (b - a) / shortest))))
+            edges = a + (b - a) * np.arange(K) / K
+            self.K = K
+            self.cell_span = find_span(self.U, p, n1, edges)
 
     def __call__(self, u):
         p = self.p
@@ -279,7 +287,15 @@ class PolyTable:
             span += p
             np.clip(span, p, self.n1 - 1, out=span)
         else:
-            span = find_span(self.U, p, self.n1, u)
+            cell = ((u - self.a) * (self.K / (self.b - self.a))).astype(np.intp)
+            np.clip(cell, 0, self.K - 1, out=cell)
+            span = np.take(self.cell_span, cell)
+            last = self.n1 - 1
+            while True:
+                step = (span < last) & (np.take(self.U, span + 1) <= u)
+                if not step.any():
+                    break
+                span += step
         t = u - self.U[span]
         D = self.coef.shape[1]
         res = np.empty((D, u.shape[0]))
