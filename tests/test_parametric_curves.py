@@ -144,10 +144,18 @@ def test_objects_are_immutable():
         bool(c)
 
 
-def test_fast_path_matches_cox_de_boor():
+@pytest.mark.parametrize("knots", ["random", "uniform", "clustered"])
+def test_fast_path_matches_cox_de_boor(knots):
     c = random_nurbs(3)
-    u = rng(9).uniform(0, 1, 20_000)  # above the power-table threshold
-    slow = np.concatenate([c(chunk) for chunk in np.array_split(u, 10)])
+    if knots == "uniform":
+        c = NURBS(c.control_points, c.weights, 3)
+    elif knots == "clustered":
+        U = np.array(c.knots)
+        U[5:8] = 0.4 + np.array([0.0, 1e-7, 2e-7])
+        c = NURBS(c.control_points, c.weights, 3, U)
+    u = np.concatenate([rng(9).uniform(0, 1, 20_000), c.knots[3:-3], [0.4 + 5e-8]])
+    # 20 000 points take the power-table path, chunks of 2 000 take Cox-de Boor
+    slow = np.concatenate([c(chunk) for chunk in np.array_split(u, 11)])
     np.testing.assert_allclose(c(u), slow, atol=EXACT)
 
 
