@@ -1,31 +1,34 @@
 """Watertight boundary meshes: marching cubes over the octree's BOUNDARY cells.
 
-`mesh` decomposes a solid into an octree (`spatial.octree`), keeps the
-BOUNDARY cells of the finest level and meshes only them:
+`mesh` decomposes a solid into an octree (`spatial.octree`) down to cells of
+twice the voxel size, keeps their BOUNDARY cells and meshes only them:
 
-1. the finest BOUNDARY cells are grouped into blocks of ``block**3`` cells;
-2. the lattice nodes (cell corners) of the boundary cells are sampled once
-   each (deduplicated over the whole part, so that a node shared by two blocks
-   has one value and both blocks agree on its sign);
-3. every block is meshed independently by scikit-image's Lewiner marching
-   cubes restricted (``mask=``) to its boundary cells -- a pure function of
-   the block's samples, ready to run elsewhere;
-4. the blocks' triangles are merged into ONE indexed mesh whose vertices are
+1. the lattice nodes (spacing ``h``) of the boundary cells are sampled, slab
+   by slab along x; every node is evaluated exactly once (a node on the face
+   between two slabs is evaluated by the first slab needing it and handed to
+   the next), so the blocks on both sides of a face see one value and agree
+   on its sign;
+2. the cells are grouped into blocks of ``block**3`` voxels; every block is
+   meshed independently by scikit-image's Lewiner marching cubes restricted
+   (``mask=``) to the voxels of its boundary cells -- a pure function of the
+   block's samples, ready to run elsewhere (`mesh_block`);
+3. the blocks' triangles are merged into ONE indexed mesh whose vertices are
    keyed by the lattice edge they lie on (integer id ``3 * node + axis`` of
-   the edge's lower node): no floating-point de-duplication;
-5. vertices are moved onto the true surface along their edge by a few
-   vectorized regula-falsi steps (bracketed by the edge's two samples, so a
-   vertex never leaves its edge).
+   the edge's lower node): no floating-point de-duplication (`merge_blocks`);
+4. vertices are moved onto the true surface along their edge by a few
+   vectorized regula-falsi (Illinois) steps bracketed by the edge's two
+   samples, so a vertex never leaves its edge.
 
-Cells classified FULL or EMPTY have eight corner samples of one strict sign
-(the classification is conservative), so no triangle is lost by skipping them,
-and the mesh is closed, 2-manifold and outward-oriented whenever the solid is
-inside the padded region.
+Cells classified FULL or EMPTY hold samples of one strict sign only (the
+classification is conservative), so no triangle is lost by skipping them, and
+the mesh is closed, 2-manifold and outward-oriented (scikit-image's
+``gradient_direction='descent'`` with negative-inside distances) whenever the
+solid lies inside the padded region.
 
-Samples exactly on the level (0.0, or within a thousandth of a cell of it) are
-pushed off it by ``ZERO_NUDGE * h`` keeping their sign (zero counts as
-outside), so a face lying exactly on a sample plane leaves no hole (see
-scikit-image issue 8116) and no vertex sits on a lattice node.
+Samples exactly on the level (0.0, or within ``ZERO_NUDGE * h`` of it) are
+pushed off it keeping their sign (zero counts as outside), so a face lying
+exactly on a sample plane leaves no hole (scikit-image issue 8116) and no
+vertex sits on a lattice node.
 
 References
 ----------
@@ -41,20 +44,24 @@ import warnings
 
 import numpy as np
 
-from .octree import CHILD_OFFSETS, descend, make_lattice
+from .octree import descend, make_lattice
 from .progress import progress_bar
 
 __all__ = ["mesh", "mesh_cells", "mesh_block", "merge_blocks", "empty_mesh", "ZERO_NUDGE", "DEFAULT_BLOCK",
-           "REFINE_STEPS"]
+           "REFINE_STEPS", "REFINE_TOL"]
 
 #: Samples closer to the level than ``ZERO_NUDGE * h`` are pushed to that distance (sign kept, 0 -> +).
 ZERO_NUDGE = 1e-3
-#: Cells per side of a meshing block.
+#: Voxels per side of a meshing block.
 DEFAULT_BLOCK = 32
 #: At most this many regula-falsi steps move vertices onto the surface along their edge.
-REFINE_STEPS = 8
+REFINE_STEPS = 6
 #: A vertex stops moving once ``|f| <= REFINE_TOL * h``.
-REFINE_TOL = 1e-6
+REFINE_TOL = 1e-4
+#: Boxes bounded per call while descending (caps the memory of the classification).
+CLASSIFY_CHUNK = 1 << 18
+#: Points evaluated per call (caps the memory of an evaluation).
+EVAL_CHUNK = 1 << 18
 
 
 def empty_mesh(voxel_size=0.0, evaluations=0):
@@ -76,9 +83,9 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     solid : Solid
         The solid (bounded, or give `bounds`).
     voxel_size : float, optional
-        Edge of the finest cells.
+        Edge of the voxels (marching-cubes cells).
     resolution : int, optional
-        Finest cells across the longest side of the bounds (exactly one of
+        Voxels across the longest side of the bounds (exactly one of
         `voxel_size` / `resolution`).
     bounds : (lo, hi), optional
         Region to mesh; a solid sticking out of it is clipped to it (the mesh
@@ -88,14 +95,15 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     progress : bool or None
         Progress bar (None: only on a terminal).
     block : int
-        Cells per side of a meshing block.
+        Voxels per side of a meshing block (even).
 
     Returns
     -------
     pyvista.PolyData
-        Triangles; ``field_data`` holds ``voxel_size``, ``evaluations`` (boxes
-        bounded plus points sampled), ``boundary_cells`` and ``blocks``.  Empty
-        (with a warning) when no boundary lies in the region.
+        Triangles; ``field_data`` holds ``voxel_size``, ``evaluations``
+        (boxes bounded plus points sampled), ``boundary_cells``, ``blocks``
+        and ``seconds``.  Empty (with a warning) when no boundary lies in the
+        region.
 
     Examples
     --------
@@ -110,16 +118,18 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
-    result = descend(lattice, keep_leaves=False, progress=progress)
-    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, result["boundary"], refine=refine,
-                      progress=progress, evaluations=result["evaluations"], block=block, _stacklevel=3)
+    result = descend(lattice, keep_leaves=False, stop_level=lattice.depth - 1, progress=progress,
+                     chunk=CLASSIFY_CHUNK)
+    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, result["boundary"], cell_size=2,
+                      refine=refine, progress=progress, evaluations=result["evaluations"], block=block,
+                      _stacklevel=3)
 
 
 def _check_block(block):
     if isinstance(block, bool) or not isinstance(block, (int, np.integer)):
-        raise TypeError(f"block: expected an integer number of cells, got {block!r}")
-    if not 2 <= block <= 256:
-        raise ValueError(f"block: expected 2 to 256 cells per side, got {block}")
+        raise TypeError(f"block: expected an even integer number of voxels, got {block!r}")
+    if not 2 <= block <= 256 or block % 2:
+        raise ValueError(f"block: expected an even number of voxels from 2 to 256, got {block}")
     return int(block)
 
 
@@ -127,27 +137,38 @@ def _check_block(block):
 # one block: a pure function of its samples
 # ---------------------------------------------------------------------------
 
-def mesh_block(values, mask, node_offset, node_strides):
-    """Marching cubes of one block; triangles as global lattice-edge ids.
+def mesh_block(values, mask):
+    """Marching cubes of one block; vertices identified by their lattice edge.
 
     Parameters
     ----------
     values : (a+1, b+1, c+1) float32
-        Samples at the block's lattice nodes, none exactly 0 (nudged).
+        Samples at the block's lattice nodes, none exactly 0 (see `ZERO_NUDGE`).
     mask : (a+1, b+1, c+1) bool
-        ``mask[i+1, j+1, k+1]`` selects the cube with lower node ``(i, j, k)``
+        ``mask[i+1, j+1, k+1]`` selects the voxel with lower node ``(i, j, k)``
         (scikit-image's convention).
-    node_offset : (3,) int64
-        Global index of the block's node (0, 0, 0).
-    node_strides : (3,) int64
-        Strides of the global linear node index.
 
     Returns
     -------
-    edges : (v,) int64
-        Global edge id ``3 * node + axis`` of each vertex of the block.
-    faces : (f, 3) int64
-        Triangles as indices into `edges`, wound outward (negative inside).
+    node : (v, 3) int64
+        Local lower node of each vertex's edge.
+    axis : (v,) int64
+        Direction of the edge (0, 1, 2).
+    f0, f1 : (v,) float32
+        Samples at the edge's two ends (opposite signs).
+    faces : (f, 3) int32
+        Triangles as indices into the vertices, wound outward (negative
+        inside).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.arange(3, dtype=np.float32) - 0.5
+    >>> vals = np.broadcast_to(x[:, None, None], (3, 3, 3)).copy()
+    >>> mask = np.zeros((3, 3, 3), bool); mask[1, 1, 1] = True
+    >>> node, axis, f0, f1, faces = mesh_block(vals, mask)
+    >>> faces.shape, sorted(set(axis.tolist()))
+    ((2, 3), [0])
     """
     from skimage.measure import marching_cubes
 
@@ -155,39 +176,61 @@ def mesh_block(values, mask, node_offset, node_strides):
         verts, faces, _, _ = marching_cubes(values, 0.0, mask=mask, allow_degenerate=True)
     except (RuntimeError, ValueError):
         # No sign change in the block ('No surface found' / level out of range).
-        return np.empty(0, np.int64), np.empty((0, 3), np.int64)
+        return (np.empty((0, 3), np.int64), np.empty(0, np.int64), np.empty(0, np.float32),
+                np.empty(0, np.float32), np.empty((0, 3), np.int32))
     rounded = np.rint(verts)
-    frac = np.abs(verts - rounded)
-    axis = np.argmax(frac, axis=1)
+    axis = np.argmax(np.abs(verts - rounded), axis=1)
     node = rounded.astype(np.int64)
     rows = np.arange(verts.shape[0])
     node[rows, axis] = np.floor(verts[rows, axis]).astype(np.int64)
-    node += node_offset
-    edges = (node @ node_strides) * 3 + axis
-    return edges, faces.astype(np.int64)
+    f0 = values[node[:, 0], node[:, 1], node[:, 2]]
+    upper = node.copy()
+    upper[rows, axis] += 1
+    f1 = values[upper[:, 0], upper[:, 1], upper[:, 2]]
+    return node, axis.astype(np.int64), f0, f1, faces.astype(np.int32)
 
 
 def merge_blocks(parts):
-    """Merge per-block ``(edges, faces)`` into one indexed mesh keyed by edge id.
+    """Merge per-block results into one indexed mesh keyed by global edge id.
+
+    Parameters
+    ----------
+    parts : list of (edges, f0, f1, faces[, nodes])
+        Per block: global edge ids ``3 * node + axis`` of its vertices, the
+        samples at the edges' ends, its triangles (local vertex indices) and
+        optionally anything else per vertex (taken at the first occurrence).
 
     Returns
     -------
     edges : (v,) int64
-        Sorted unique edge ids (one vertex each).
-    faces : (f, 3) int64
+        Sorted unique edge ids, one vertex each.
+    f0, f1 : (v,) float32
+        Samples at each edge's lower and upper node.
+    faces : (f, 3) int32 (int64 beyond 2**31 vertices)
         Triangles indexing `edges`.
+    extra : list
+        The optional per-vertex arrays, merged likewise.
     """
-    parts = [p for p in parts if p[1].shape[0]]
+    parts = [p for p in parts if p[3].shape[0]]
     if not parts:
-        return np.empty(0, np.int64), np.empty((0, 3), np.int64)
+        return (np.empty(0, np.int64), np.empty(0, np.float32), np.empty(0, np.float32),
+                np.empty((0, 3), np.int32), [])
     all_edges = np.concatenate([p[0] for p in parts])
-    uniq, inverse = np.unique(all_edges, return_inverse=True)
-    faces = []
-    start = 0
-    for edges, f in parts:
-        faces.append(inverse[start:start + edges.shape[0]][f])
-        start += edges.shape[0]
-    return uniq, np.concatenate(faces)
+    uniq, first, inverse = np.unique(all_edges, return_index=True, return_inverse=True)
+    del all_edges
+    inverse = inverse.astype(np.int32 if uniq.shape[0] < 2 ** 31 else np.int64)
+    f0 = np.concatenate([p[1] for p in parts])[first]
+    f1 = np.concatenate([p[2] for p in parts])[first]
+    extra = [np.concatenate([p[i] for p in parts])[first] for i in range(4, len(parts[0]))]
+    del first
+    faces = np.empty((sum(p[3].shape[0] for p in parts), 3), dtype=inverse.dtype)
+    row = vert = 0
+    for p in parts:
+        k = p[3].shape[0]
+        faces[row:row + k] = inverse[p[3] + vert]
+        row += k
+        vert += p[0].shape[0]
+    return uniq, f0, f1, faces, extra
 
 
 # ---------------------------------------------------------------------------
@@ -197,15 +240,26 @@ def merge_blocks(parts):
 def _nudge(values, h):
     """Push samples within ``ZERO_NUDGE * h`` of 0 to that distance, keeping the sign (0 -> +)."""
     eps = ZERO_NUDGE * h
-    out = np.asarray(values, dtype=np.float64).copy()
+    out = np.asarray(values, dtype=np.float64)
     small = np.abs(out) < eps
     out[small] = np.where(out[small] < 0, -eps, eps)
     return out
 
 
-def mesh_cells(solid, origin, voxel_size, cells, *, refine=True, progress=None, evaluations=0,
+def _evaluate(solid, pts, chunk=EVAL_CHUNK):
+    """The solid's values at `pts` (n, 3), evaluated in chunks to cap temporary memory."""
+    n = pts.shape[0]
+    if n <= chunk:
+        return solid(pts)
+    out = np.empty(n)
+    for a in range(0, n, chunk):
+        out[a:a + chunk] = solid(pts[a:a + chunk])
+    return out
+
+
+def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
                block=DEFAULT_BLOCK, _stacklevel=2):
-    """Mesh the boundary through the given finest cells of a lattice.
+    """Mesh the boundary through the given cells of a lattice.
 
     Parameters
     ----------
@@ -213,10 +267,13 @@ def mesh_cells(solid, origin, voxel_size, cells, *, refine=True, progress=None, 
     origin : (3,) float
         Position of lattice node (0, 0, 0).
     voxel_size : float
-        Cell edge ``h``; node ``(i, j, k)`` is at ``origin + (i, j, k) * h``.
+        Voxel edge ``h``; node ``(i, j, k)`` is at ``origin + (i, j, k) * h``.
     cells : (m, 3) int
-        Lower nodes of the cells that may hold boundary (every other cell must
-        have eight corner samples of one strict sign).
+        Lower corners of the cells that may hold boundary, in units of
+        ``cell_size`` voxels.  Every other cell must hold samples of one strict
+        sign only (FULL or EMPTY).
+    cell_size : {1, 2}
+        Voxels per side of a cell.
     refine, progress, block
         See `mesh`.
     evaluations : int
@@ -230,6 +287,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, refine=True, progress=None, 
 
     t0 = time.perf_counter()
     h = float(voxel_size)
+    c = int(cell_size)
+    block = _check_block(block)
     origin = np.asarray(origin, dtype=np.float64)
     cells = np.asarray(cells, dtype=np.int64).reshape(-1, 3)
     if cells.shape[0] == 0:
@@ -238,55 +297,34 @@ def mesh_cells(solid, origin, voxel_size, cells, *, refine=True, progress=None, 
         return empty_mesh(h, evaluations)
     if np.any(cells < 0):
         raise ValueError("cells: expected non-negative lattice indices")
-    dims = cells.max(axis=0) + 2  # nodes per axis reaching every corner
-    strides = np.array([dims[1] * dims[2], dims[2], 1], dtype=np.int64)
+    if block % c:
+        raise ValueError(f"block: expected a multiple of the cell size {c}, got {block}")
+    stride = np.int64(int((cells.max() + 1) * c) + 2)  # global node ids: (x * S + y) * S + z
+    per = block // c  # cells per block side
 
-    # -- group the cells into blocks --------------------------------------------------
-    bkey = cells // block
-    bdims = bkey.max(axis=0) + 1
-    bid = (bkey[:, 0] * bdims[1] + bkey[:, 1]) * bdims[2] + bkey[:, 2]
-    order = np.argsort(bid, kind="stable")
-    cells = cells[order]
-    bid = bid[order]
-    starts = np.flatnonzero(np.r_[True, bid[1:] != bid[:-1]])
-    ends = np.r_[starts[1:], bid.shape[0]]
-    del bkey, order
+    # cells grouped in slabs of `block` voxels along x
+    slab_of = cells[:, 0] // per
+    order = np.argsort(slab_of, kind="stable")
+    cells, slab_of = cells[order], slab_of[order]
+    del order
+    slab_starts = np.flatnonzero(np.r_[True, slab_of[1:] != slab_of[:-1]])
+    slab_ends = np.r_[slab_starts[1:], cells.shape[0]]
 
-    # -- sample every needed node once ------------------------------------------------
-    node_ids = []
-    for s, e in zip(starts, ends):
-        corners = cells[s:e, None, :] + CHILD_OFFSETS
-        node_ids.append(np.unique(corners.reshape(-1, 3) @ strides))
-    nodes = np.unique(np.concatenate(node_ids))
-    del node_ids
-    ijk = np.empty((nodes.shape[0], 3), dtype=np.int64)
-    ijk[:, 0], rest = np.divmod(nodes, strides[0])
-    ijk[:, 1], ijk[:, 2] = np.divmod(rest, strides[1])
-    del rest
-    values = _nudge(solid(origin + ijk * h), h)
-    del ijk
-    evaluations += int(nodes.shape[0])
-
-    # -- mesh block by block ----------------------------------------------------------
     parts = []
-    bar = progress_bar(len(starts), "mesh", progress, unit="block")
+    n_blocks = 0
+    handoff = None  # (slab, y0, z0, values, known) of the previous slab's upper node plane
+    bar = progress_bar(len(slab_starts), "mesh", progress, unit="slab")
     try:
-        for s, e in zip(starts, ends):
-            c = cells[s:e]
-            lo = (c[0] // block) * block
-            local = c - lo
-            size = local.max(axis=0) + 2
-            vol = np.full(tuple(size), np.float32(h), dtype=np.float32)
-            mask = np.zeros(tuple(size), dtype=bool)
-            corners = (local[:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
-            gid = (corners + lo) @ strides
-            vol[corners[:, 0], corners[:, 1], corners[:, 2]] = values[np.searchsorted(nodes, gid)]
-            mask[local[:, 0] + 1, local[:, 1] + 1, local[:, 2] + 1] = True
-            parts.append(mesh_block(vol, mask, lo, strides))
+        for s0, s1 in zip(slab_starts, slab_ends):
+            slab = int(slab_of[s0])
+            sc = cells[s0:s1]
+            nb, spent, handoff = _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts)
+            n_blocks += nb
+            evaluations += spent
             bar.update()
     finally:
         bar.close()
-    edges, faces = merge_blocks(parts)
+    edges, f0, f1, faces, (nodes,) = merge_blocks(parts)
     del parts
     if faces.shape[0] == 0:
         warnings.warn("mesh: no surface crosses the sampled nodes (features thinner than the voxel size?); "
@@ -295,58 +333,131 @@ def mesh_cells(solid, origin, voxel_size, cells, *, refine=True, progress=None, 
 
     # -- vertex positions: on their edge, interpolated then refined ------------------------
     axis = edges % 3
-    node = edges // 3
-    n0 = np.empty((node.shape[0], 3), dtype=np.int64)
-    n0[:, 0], rest = np.divmod(node, strides[0])
-    n0[:, 1], n0[:, 2] = np.divmod(rest, strides[1])
-    n1 = n0.copy()
-    n1[np.arange(n1.shape[0]), axis] += 1
-    f0 = values[np.searchsorted(nodes, n0 @ strides)]
-    f1 = values[np.searchsorted(nodes, n1 @ strides)]
-    p0 = origin + n0 * h
-    step = np.zeros_like(p0)
-    step[np.arange(step.shape[0]), axis] = h
+    del edges
+    p0 = origin + nodes * h
+    del nodes
+    f0 = f0.astype(np.float64)
+    f1 = f1.astype(np.float64)
     t = f0 / (f0 - f1)
     if refine:
-        t, spent = _refine_on_edges(solid, p0, step, t, f0, f1)
+        t, spent = _refine_on_edges(solid, p0, axis, h, t, f0, f1)
         evaluations += spent
-    points = p0 + t[:, None] * step
-
-    out = pv.PolyData(points, np.hstack([np.full((faces.shape[0], 1), 3, np.int64), faces]).ravel())
+    p0[np.arange(p0.shape[0]), axis] += t * h
+    out = pv.PolyData.from_regular_faces(p0, faces)
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
     out.field_data["boundary_cells"] = np.array([int(cells.shape[0])], dtype=np.int64)
-    out.field_data["blocks"] = np.array([len(starts)], dtype=np.int64)
+    out.field_data["blocks"] = np.array([n_blocks], dtype=np.int64)
     out.field_data["seconds"] = np.array([time.perf_counter() - t0])
     return out
 
 
-def _refine_on_edges(solid, p0, step, t, f0, f1, steps=REFINE_STEPS, tol=REFINE_TOL):
+def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
+    """Sample and mesh one slab of cells (x from ``slab * block`` voxels, ``block`` thick).
+
+    The slab's nodes live in a dense float32 array spanning the block-aligned
+    y/z range of its cells; only nodes of its cells are evaluated, and the
+    lower node plane reuses the values the previous slab evaluated for its
+    upper plane.  Returns ``(blocks meshed, evaluations, handoff)``.
+    """
+    x0 = slab * block
+    lo = sc.min(axis=0) * c
+    hi = (sc.max(axis=0) + 1) * c
+    y0 = (lo[1] // block) * block
+    z0 = (lo[2] // block) * block
+    ny = -(-(hi[1] - y0) // block) * block + 1
+    nz = -(-(hi[2] - z0) // block) * block + 1
+    local = sc * c - np.array([x0, y0, z0])
+    # nodes of the cells, and the voxels inside the cells (marching-cubes mask)
+    need = np.zeros((block + 1, ny, nz), dtype=bool)
+    vox = np.zeros((block, ny - 1, nz - 1), dtype=bool)
+    for i in range(c + 1):
+        for j in range(c + 1):
+            for k in range(c + 1):
+                need[local[:, 0] + i, local[:, 1] + j, local[:, 2] + k] = True
+                if i < c and j < c and k < c:
+                    vox[local[:, 0] + i, local[:, 1] + j, local[:, 2] + k] = True
+    values = np.full((block + 1, ny, nz), np.float32(1.0), dtype=np.float32)
+    known = np.zeros((ny, nz), dtype=bool)
+    if handoff is not None and handoff[0] == slab - 1:
+        _, py0, pz0, pvals, pknown = handoff
+        ya, yb = max(y0, py0), min(y0 + ny, py0 + pvals.shape[0])
+        za, zb = max(z0, pz0), min(z0 + nz, pz0 + pvals.shape[1])
+        if ya < yb and za < zb:
+            values[0, ya - y0:yb - y0, za - z0:zb - z0] = pvals[ya - py0:yb - py0, za - pz0:zb - pz0]
+            known[ya - y0:yb - y0, za - z0:zb - z0] = pknown[ya - py0:yb - py0, za - pz0:zb - pz0]
+    todo = need.copy()
+    todo[0] &= ~known
+    idx = np.nonzero(todo)
+    spent = int(idx[0].shape[0])
+    if spent:
+        pts = np.empty((spent, 3))
+        pts[:, 0] = origin[0] + (idx[0] + x0) * h
+        pts[:, 1] = origin[1] + (idx[1] + y0) * h
+        pts[:, 2] = origin[2] + (idx[2] + z0) * h
+        values[idx] = _nudge(_evaluate(solid, pts), h).astype(np.float32)
+        del pts
+    del todo, idx
+    handoff = (slab, y0, z0, values[block].copy(), need[block].copy())
+    # -- blocks -------------------------------------------------------------------------
+    bkeys = np.unique((local[:, 1] // block) * (nz // block + 1) + local[:, 2] // block)
+    shape = (block + 1,) * 3
+    for key in bkeys:
+        by, bz = divmod(int(key), nz // block + 1)
+        ys, zs = by * block, bz * block
+        vol = np.ascontiguousarray(values[:, ys:ys + block + 1, zs:zs + block + 1])
+        mask = np.zeros(shape, dtype=bool)
+        mask[1:, 1:, 1:] = vox[:, ys:ys + block, zs:zs + block]
+        node, axis, f0, f1, faces = mesh_block(vol, mask)
+        if faces.shape[0]:
+            gx = node[:, 0] + x0
+            gy = node[:, 1] + (ys + y0)
+            gz = node[:, 2] + (zs + z0)
+            edges = ((gx * stride + gy) * stride + gz) * 3 + axis
+            parts.append((edges, f0, f1, faces, np.stack([gx, gy, gz], axis=1).astype(np.int32)))
+    return int(bkeys.shape[0]), spent, handoff
+
+
+def _refine_on_edges(solid, p0, axis, h, t, f0, f1, steps=REFINE_STEPS, tol=REFINE_TOL, chunk=EVAL_CHUNK):
     """Illinois regula falsi for the root of f along each vertex's edge.
 
-    The bracket ``[a, b]`` (initially ``[0, 1]``, values of opposite signs) is
-    kept, so every vertex stays on its edge.  Only vertices whose value is
-    still above ``tol * |step|`` are evaluated again.  Returns the new
-    parameters and the number of evaluations spent.
+    Vertex ``i`` lies at ``p0[i] + t[i] * h * e[axis[i]]``.  The bracket
+    ``[a, b]`` (initially ``[0, 1]``, end values of opposite signs) is kept,
+    so every vertex stays on its edge.  Only vertices whose value is still
+    above ``tol * h`` are evaluated again.  Works on chunks of vertices to
+    bound the temporaries.  Returns the new parameters and the number of
+    evaluations spent.
     """
-    h = float(np.abs(step).max()) if step.size else 1.0
+    out = np.empty_like(t)
+    spent = 0
+    for s0 in range(0, t.shape[0], chunk):
+        sl = slice(s0, s0 + chunk)
+        out[sl], used = _refine_chunk(solid, p0[sl], axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol)
+        spent += used
+    return out, spent
+
+
+def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol):
+    n = t.shape[0]
     t = t.copy()
-    a = np.zeros_like(t)
-    b = np.ones_like(t)
-    fa = f0.copy()
-    fb = f1.copy()
-    side = np.zeros(t.shape[0], dtype=np.int8)
-    active = np.arange(t.shape[0])
+    a = np.zeros(n)
+    b = np.ones(n)
+    fa = fa.copy()
+    fb = fb.copy()
+    side = np.zeros(n, dtype=np.int8)
+    active = np.arange(n)
     spent = 0
     for _ in range(steps):
         if active.size == 0:
             break
-        ft = solid(p0[active] + t[active, None] * step[active])
+        q = p0[active]
+        q[np.arange(active.size), axis[active]] += t[active] * h
+        ft = solid(q)
         spent += active.size
         busy = np.abs(ft) > tol * h
         active, ft = active[busy], ft[busy]
         ta, aa, ba, fa_, fb_, sd = t[active], a[active], b[active], fa[active], fb[active], side[active]
-        left = np.sign(ft) == np.sign(fa_)
+        left = (ft > 0) == (fa_ > 0)
         # the root lies in [t, b] when f(t) has the sign of f(a)
         aa = np.where(left, ta, aa)
         ba = np.where(left, ba, ta)

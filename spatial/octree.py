@@ -189,7 +189,7 @@ def make_lattice(solid, *, voxel_size=None, resolution=None, bounds=None, max_de
 # classification, level by level
 # ---------------------------------------------------------------------------
 
-def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=None):
+def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=None, chunk=None):
     """Classify the lattice's octree top-down.
 
     Parameters
@@ -202,6 +202,9 @@ def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=Non
         Last level classified (default `lattice.depth`, the finest).
     progress : bool or None
         Progress bar (None: only on a terminal).
+    chunk : int, optional
+        Bound at most this many boxes per `value_bounds` call (default: one
+        call per level).
 
     Returns
     -------
@@ -213,7 +216,8 @@ def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=Non
     """
     depth = lattice.depth
     stop = depth if stop_level is None else int(stop_level)
-    solid, origin, h, shape = lattice.solid, lattice.origin, lattice.voxel_size, lattice.shape
+    solid, origin, h = lattice.solid, lattice.origin, lattice.voxel_size
+    shape = lattice.shape
     cells = np.zeros((1, 3), dtype=np.int32)
     leaves = []
     classified = []
@@ -222,15 +226,24 @@ def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=Non
     try:
         for level in range(stop + 1):
             s = 1 << (depth - level)
-            inside = np.all(cells.astype(np.int64) * s < shape, axis=1)
-            out_cells = cells[~inside]
-            cells = cells[inside]
-            lo = origin + cells * (s * h)
-            vmin, vmax = solid.value_bounds(lo, lo + s * h)
-            del lo
-            evaluations += cells.shape[0]
-            classified.append(cells.shape[0] + out_cells.shape[0])
-            state = np.full(cells.shape[0], BOUNDARY, dtype=np.uint8)
+            # cells wholly outside the padded region are EMPTY without evaluation
+            limit = (-(-shape // s)).astype(np.int32)
+            inside = (cells < limit).all(axis=1)
+            if not inside.all():
+                out_cells = cells[~inside]
+                cells = cells[inside]
+            else:
+                out_cells = cells[:0]
+            m = cells.shape[0]
+            vmin = np.empty(m)
+            vmax = np.empty(m)
+            step = m if not chunk else int(chunk)
+            for a in range(0, m, max(step, 1)):
+                lo = origin + cells[a:a + step] * (s * h)
+                vmin[a:a + step], vmax[a:a + step] = solid.value_bounds(lo, lo + s * h)
+            evaluations += m
+            classified.append(m + out_cells.shape[0])
+            state = np.full(m, BOUNDARY, dtype=np.uint8)
             state[vmin > 0] = EMPTY
             state[vmax < 0] = FULL
             is_b = state == BOUNDARY
@@ -241,6 +254,7 @@ def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=Non
                 vlo = np.concatenate([vmin[done], np.full(out_cells.shape[0], np.inf)])
                 vhi = np.concatenate([vmax[done], np.full(out_cells.shape[0], np.inf)])
                 leaves.append((idx, st, vlo, vhi))
+            del vmin, vmax, state
             boundary = cells[is_b]
             if level < stop:
                 cells = (2 * boundary[:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
@@ -467,5 +481,5 @@ class Octree:
         from .boundary import mesh_cells
 
         kwargs = {} if block is None else {"block": block}
-        return mesh_cells(self.solid, self.origin, self.voxel_size, self.boundary_index(),
+        return mesh_cells(self.solid, self.origin, self.voxel_size, self.boundary_index(), cell_size=1,
                           refine=refine, progress=progress, evaluations=self.evaluations, **kwargs)

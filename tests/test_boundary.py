@@ -164,16 +164,18 @@ def test_bad_arguments():
 
 
 def test_mesh_block_is_pure_and_keys_edges():
-    # a plane x = 1.25 through a 3x3x3-node block: 4 cubes, 8 triangles, 9 vertices on x-edges
+    # a plane x = 1.25 through a 3x3x3-node block: 4 voxels, 8 triangles, 9 vertices on x-edges
     x = np.arange(3, dtype=np.float32)
     vals = np.broadcast_to((x - 1.25)[:, None, None], (3, 3, 3)).copy()
     mask = np.zeros((3, 3, 3), bool)
-    mask[2, 1:, 1:] = True  # cubes with lower node (1, j, k)
-    strides = np.array([100, 10, 1])
-    e1, f1 = mesh_block(vals, mask, np.array([5, 0, 0]), strides)
-    e2, f2 = mesh_block(vals.copy(), mask.copy(), np.array([5, 0, 0]), strides)
-    assert np.array_equal(e1, e2) and np.array_equal(f1, f2)
-    assert f1.shape == (8, 3)
-    assert set((e1 % 3).tolist()) == {0}
-    assert sorted(set((e1 // 3 // 100).tolist())) == [6]
-    assert len(set(e1.tolist())) == 9
+    mask[2, 1:, 1:] = True  # voxels with lower node (1, j, k)
+    first = mesh_block(vals, mask)
+    again = mesh_block(vals.copy(), mask.copy())
+    assert all(np.array_equal(u, v) for u, v in zip(first, again))
+    node, axis, f0, f1, faces = first
+    assert faces.shape == (8, 3) and node.shape == (9, 3)
+    assert set(axis.tolist()) == {0} and set(node[:, 0].tolist()) == {1}
+    assert np.allclose(f0, -0.25) and np.allclose(f1, 0.75)
+    assert len({tuple(r) for r in node.tolist()}) == 9
+    # no sign change: nothing, no error
+    assert mesh_block(np.ones((3, 3, 3), np.float32), mask)[4].shape == (0, 3)
