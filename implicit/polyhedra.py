@@ -80,7 +80,10 @@ def triangle_distance(points: np.ndarray, tris: np.ndarray, edges: np.ndarray | 
     d21 = points @ ac.T - np.einsum("ij,ij->i", a, ac)
     v = (d11 * d20 - d01 * d21) / denom
     w = (d00 * d21 - d01 * d20) / denom
-    inside = (v >= 0) & (w >= 0) & (v + w <= 1) & (nrm_len > 0)
+    # A little slack: a projection onto an edge shared by two coplanar
+    # triangles (a face diagonal, not among `edges`) must count as inside.
+    eps = 1e-10
+    inside = (v >= -eps) & (w >= -eps) & (v + w <= 1 + eps) & (nrm_len > 0)
     plane = points @ unit.T - np.einsum("ij,ij->i", a, unit)
     best = np.where(inside, plane * plane, np.inf).min(axis=1)
     if edges is None:
@@ -316,7 +319,7 @@ def convex_polyhedron(normals, points) -> Solid:
     >>> from implicit import convex_polyhedron
     >>> cube = convex_polyhedron([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]],
     ...                          [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]])
-    >>> cube.bounds[1].tolist()
+    >>> cube.bounds[1].round(9).tolist()
     [1.0, 1.0, 1.0]
     """
     return ConvexPolyhedron(normals, points)

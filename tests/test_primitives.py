@@ -123,6 +123,15 @@ def test_convex_polyhedron_cube_matches_box_everywhere():
     np.testing.assert_allclose(cube.bounds[1], [0.5] * 3, atol=1e-9)
 
 
+def test_polyhedron_points_projecting_onto_face_diagonals():
+    # A lattice puts many points straight above the diagonals that split square faces.
+    normals = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]]
+    cube = convex_polyhedron(normals, np.array(normals, float) * 0.5)
+    lattice = np.stack(np.meshgrid(*[np.linspace(-2, 2, 17)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    np.testing.assert_allclose(cube(lattice), box(1.0)(lattice), atol=1e-9)
+    np.testing.assert_allclose(at(wedge((1, 1, 1)), (0.5, 0.5, -1), (-1, 0.5, 0.5)), [1, 1], atol=1e-12)
+
+
 def test_convex_polyhedron_tetrahedron_bounds_from_vertices():
     verts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
     normals = [[-1, 0, 0], [0, -1, 0], [0, 0, -1], [1, 1, 1]]
