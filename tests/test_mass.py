@@ -357,3 +357,20 @@ def test_rigid_motion_law(angles, shift):
     np.testing.assert_allclose(p.centroid, rot @ base.centroid + shift, atol=1e-9)
     np.testing.assert_allclose(p.inertia, rot @ base.inertia @ rot.T, atol=1e-10)
     np.testing.assert_allclose(p.principal_moments, base.principal_moments, rtol=1e-9)
+
+
+@pytest.mark.parametrize("n", [32, 64, 128])
+def test_thin_bracket_error_brackets_volume(n):
+    """An L bracket (4 mm plates, re-entrant edge, four holes): the estimate
+    holds even where two extrapolations happen to agree."""
+    from implicit import union
+
+    base = box((50.0, 30.0, 4.0), center=(25.0, 15.0, 2.0))
+    upright = box((4.0, 30.0, 40.0), center=(2.0, 15.0, 20.0))
+    holes = [cylinder(3.0, 12.0, center=(x, 15.0, 2.0)) for x in (4 + 46 / 3, 4 + 92 / 3)]
+    holes += [cylinder(3.0, 12.0, center=(2.0, 15.0, z), axis=(1, 0, 0)) for z in (4 + 12, 4 + 24)]
+    part = union(base, upright) - holes[0] - holes[1] - holes[2] - holes[3]
+    V = 10320.0 - 4 * np.pi * 9.0 * 4.0
+    p = mass_properties(part, resolution=n, mesher=MESHER)
+    assert abs(p.volume - V) <= p.error.volume
+    assert abs(p.volume - V) / V <= SHARP_TOL
