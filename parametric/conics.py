@@ -132,6 +132,12 @@ def ellipse(a, b, center=(0.0, 0.0, 0.0), normal=None, x_axis=None):
 
     Affine maps act on NURBS control points exactly, so scaling the circle's
     control points by ``(a, b)`` keeps the weights ``(1, sqrt(2)/2, 1)``.
+
+    Examples
+    --------
+    >>> x, y = ellipse(3.0, 2.0, center=(0, 0))(0.1)
+    >>> round(float(x * x / 9 + y * y / 4), 12)
+    1.0
     """
     a, b = float(a), float(b)
     if not (a > 0 and b > 0):
@@ -150,6 +156,12 @@ def parabola(a=1.0, x_range=(-1.0, 1.0)):
 
     The middle control point is the intersection of the end tangents,
     ``((x0 + x1) / 2, a x0 x1)``.
+
+    Examples
+    --------
+    >>> x, y = parabola(2.0, (-1.0, 3.0))(0.3)
+    >>> abs(float(y - 2.0 * x * x)) < 1e-14
+    True
     """
     a = float(a)
     x0, x1 = (float(x) for x in x_range)
@@ -165,6 +177,12 @@ def hyperbola(a=1.0, b=1.0, t_range=(-1.0, 1.0)):
     For ``t`` in ``[t0, t1]`` the middle weight is ``cosh((t1 - t0) / 2) > 1`` and the
     middle control point is ``(a cosh m, b sinh m) / cosh((t1 - t0) / 2)`` with
     ``m = (t0 + t1) / 2``.
+
+    Examples
+    --------
+    >>> x, y = hyperbola(2.0, 3.0, (-1.0, 2.0))(0.6)
+    >>> round(float(x * x / 4 - y * y / 9), 12)
+    1.0
     """
     a, b = float(a), float(b)
     t0, t1 = (float(t) for t in t_range)

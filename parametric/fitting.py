@@ -145,6 +145,13 @@ def approximate_curve(points, n_control, degree=3, *, method="chord", params=Non
     Returns
     -------
     BSpline
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 1, 50)
+    >>> c = approximate_curve(np.stack([t, np.sin(3 * t)], 1), 8, 3)
+    >>> c.control_points.shape
+    (8, 2)
     """
     Q = _pts(points)
     p = _check_degree(degree)
@@ -187,6 +194,13 @@ def fit_periodic_curve(points, n_control, degree=3, *, method="chord"):
     Returns
     -------
     BSpline built by :meth:`BSpline.periodic` (domain [0, 1], ``C(0) == C(1)``).
+
+    Examples
+    --------
+    >>> th = np.linspace(0, 2 * np.pi, 100, endpoint=False)
+    >>> c = fit_periodic_curve(np.stack([np.cos(th), np.sin(th)], 1), 12)
+    >>> bool(np.allclose(c(0.0), c(1.0)))
+    True
     """
     Q = _pts(points, min_rows=3)
     p = _check_degree(degree)
@@ -307,6 +321,13 @@ def interpolate_surface(points, degree_u=3, degree_v=3, *, method="chord"):
     Returns
     -------
     BSplineSurface with an ``(r, s)`` control net.
+
+    Examples
+    --------
+    >>> u, v = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 4), indexing="ij")
+    >>> s = interpolate_surface(np.stack([u, v, u * v], -1), 3, 3)
+    >>> s.control_points.shape
+    (5, 4, 3)
     """
     Q = _grid_pts(points)
     p = _check_degree(degree_u, "degree_u")
@@ -429,6 +450,14 @@ def loft(curves_or_sections, degree_v=3, *, method="chord"):
     -------
     BSplineSurface (NURBSSurface for rational sections) with ``u`` along the
     sections and ``v`` across them; ``S(u, v_k)`` is section ``k``.
+
+    Examples
+    --------
+    >>> from parametric.conics import circle
+    >>> rings = [circle(r, center=(0, 0, z)) for r, z in ((1.0, 0.0), (2.0, 1.0), (1.0, 2.0))]
+    >>> vase = loft(rings, degree_v=2)
+    >>> round(float(np.linalg.norm(vase(0.3, 1.0) - [0, 0, 2])), 12)
+    1.0
     """
     q0 = _check_degree(degree_v, "degree_v")
     if isinstance(curves_or_sections, np.ndarray) or (
@@ -497,6 +526,13 @@ def fit_periodic_surface(radii, *, center=(0.0, 0.0, 0.0), n_control=(16, 8), de
         Domain [0, 1]²; ``S(0, v) == S(1, v)``.
     max_deviation : float
         Largest distance between a data point and the surface at its parameters.
+
+    Examples
+    --------
+    >>> s, dev = fit_periodic_surface(lambda th, ph: 1.0 + 0 * th, n_control=(12, 8),
+    ...                               samples=(48, 25))
+    >>> bool(dev < 1e-2), s(0.0, 1.0).round(12).tolist()
+    (True, [0.0, 0.0, 1.0])
     """
     if callable(radii):
         nt, nph = (int(x) for x in samples)

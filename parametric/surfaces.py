@@ -348,6 +348,13 @@ class RuledSurface(Surface):
     ----------
     c0, c1 : curve or callable
         The two rails, each reparametrized onto ``u in [0, 1]``.
+
+    Examples
+    --------
+    >>> from parametric.curves import BSpline
+    >>> s = RuledSurface(BSpline([[0, 0, 0], [2, 0, 0]], 1), BSpline([[0, 1, 1], [2, 1, 1]], 1))
+    >>> s(0.5, 0.5)
+    array([1. , 0.5, 0.5])
     """
 
     def __init__(self, c0, c1):
@@ -453,6 +460,15 @@ class BicubicPatch(Surface):
             ``dP/du`` and ``dP/dv`` at the corners.
         twists : (2, 2, dim) float
             ``d²P/du dv`` at the corners (zero twists give a Ferguson patch).
+
+        Examples
+        --------
+        >>> P = np.array([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 1]]], float)
+        >>> Pu = np.broadcast_to([1.0, 0, 0], (2, 2, 3))
+        >>> Pv = np.broadcast_to([0, 1.0, 0], (2, 2, 3))
+        >>> s = BicubicPatch.hermite(P, Pu, Pv, np.zeros((2, 2, 3)))
+        >>> s(1.0, 1.0)
+        array([1., 1., 1.])
         """
         arrs = []
         for a, n in ((corners, "corners"), (u_tangents, "u_tangents"),

@@ -236,6 +236,17 @@ class NURBSSurface(BSplineSurface):
     weights : (n_u, n_v) float, all > 0
     degree_u, degree_v : int
     knots_u, knots_v : 1-D float, optional
+
+    Examples
+    --------
+    >>> net = np.zeros((3, 2, 3))
+    >>> net[:, :, 0] = [[1, 1], [1, 1], [0, 0]]
+    >>> net[:, :, 1] = [[0, 0], [1, 1], [1, 1]]
+    >>> net[:, :, 2] = [[0, 1], [0, 1], [0, 1]]
+    >>> w = np.array([[1, 1], [np.sqrt(0.5)] * 2, [1, 1]])
+    >>> quarter_cylinder = NURBSSurface(net, w, 2, 1)
+    >>> round(float(np.hypot(*quarter_cylinder(0.3, 0.7)[:2])), 12)
+    1.0
     """
 
     def __init__(self, control_points, weights, degree_u, degree_v, knots_u=None, knots_v=None):
@@ -309,6 +320,14 @@ class BezierSurface(BSplineSurface):
     ----------
     control_points : (m + 1, n + 1, dim) float
         The characteristic polygon; degrees are ``m`` and ``n``.
+
+    Examples
+    --------
+    >>> net = np.zeros((3, 3, 3))
+    >>> net[..., 0], net[..., 1] = np.meshgrid([0, 1, 2], [0, 1, 2], indexing="ij")
+    >>> net[1, 1, 2] = 4.0
+    >>> BezierSurface(net)(0.5, 0.5)
+    array([1., 1., 1.])
     """
 
     def __init__(self, control_points):
@@ -357,6 +376,14 @@ def surface_of_revolution(profile, axis=(0.0, 0.0, 1.0), *, axis_point=(0.0, 0.0
     Returns
     -------
     NURBSSurface of degree (2, profile.degree).
+
+    Examples
+    --------
+    >>> from parametric.curves import BSpline
+    >>> cone = surface_of_revolution(BSpline([[1, 0, 0], [0, 0, 1]], 1))
+    >>> p = cone(0.3, 0.25)
+    >>> round(float(np.hypot(p[0], p[1])), 12), round(float(p[2]), 12)
+    (0.75, 0.25)
     """
     if not isinstance(profile, BSpline):
         raise TypeError(f"profile must be a BSpline or NURBS curve, got {type(profile).__name__}")
@@ -398,7 +425,14 @@ def sphere(radius=1.0, center=(0.0, 0.0, 0.0)):
 
 
 def cylinder(radius=1.0, height=1.0, center=(0.0, 0.0, 0.0)):
-    """Exact NURBS cylinder side, axis z, base circle at ``center`` (degree 2 x 1)."""
+    """Exact NURBS cylinder side, axis z, base circle at ``center`` (degree 2 x 1).
+
+    Examples
+    --------
+    >>> p = cylinder(2.0, 3.0)(0.1, 0.5)
+    >>> round(float(np.hypot(p[0], p[1])), 12), round(float(p[2]), 12)
+    (2.0, 1.5)
+    """
     r, h = float(radius), float(height)
     if not (r > 0 and h > 0):
         raise ValueError(f"radius and height must be > 0, got {radius}, {height}")
@@ -408,7 +442,14 @@ def cylinder(radius=1.0, height=1.0, center=(0.0, 0.0, 0.0)):
 
 
 def torus(major_radius=2.0, minor_radius=0.5, center=(0.0, 0.0, 0.0)):
-    """Exact NURBS torus about the z axis (degree 2 x 2, 9 x 9 net)."""
+    """Exact NURBS torus about the z axis (degree 2 x 2, 9 x 9 net).
+
+    Examples
+    --------
+    >>> p = torus(2.0, 0.5)(0.2, 0.7)
+    >>> round(float(np.hypot(np.hypot(p[0], p[1]) - 2.0, p[2])), 12)
+    0.5
+    """
     R, r = float(major_radius), float(minor_radius)
     if not (R > 0 and r > 0):
         raise ValueError(f"major_radius and minor_radius must be > 0, got {R}, {r}")

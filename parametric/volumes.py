@@ -276,6 +276,14 @@ class BezierVolume(BSplineVolume):
     Parameters
     ----------
     control_points : (l + 1, m + 1, n + 1, 3) float
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 3)
+    >>> net = np.stack(np.meshgrid(t, t, t, indexing="ij"), -1)
+    >>> mp = BezierVolume(net).mass_properties()
+    >>> round(mp.volume, 12), np.round(np.diag(mp.inertia), 12).tolist()
+    (1.0, [0.166666666667, 0.166666666667, 0.166666666667])
     """
 
     def __init__(self, control_points):
@@ -341,6 +349,12 @@ class NURBSVolume(BSplineVolume):
 
         ``r_inner = 0`` gives a solid cylinder, ``r_inner > 0`` a tube. Parameters are
         (radius, angle, height); degrees (1, 2, 1).
+
+        Examples
+        --------
+        >>> cyl = NURBSVolume.revolve_rectangle(0.0, 1.0, 0.0, 2.0)
+        >>> round(cyl.mass_properties().volume / np.pi, 12)
+        2.0
         """
         from .conics import arc
         if not (0 <= r_inner < r_outer and z0 < z1):
