@@ -29,8 +29,15 @@ _EDGE_FACES = np.array([[2, 3], [0, 3], [1, 3], [1, 2], [0, 2], [0, 1]])
 
 
 def tet_volumes(points, tets) -> np.ndarray:
-    """Signed volumes ``(m,)`` of the tetrahedra (positive: right-handed 0-1-2-3)."""
-    x = np.asarray(points, dtype=np.float64)[np.asarray(tets)[:, :4]]
+    """Signed volumes ``(m,)`` of the tetrahedra (positive: right-handed 0-1-2-3).
+
+    10-node elements are integrated over their curved shape (4-point Gauss
+    rule, exact for the quadratic Jacobian determinant).
+    """
+    tets = np.asarray(tets)
+    x = np.asarray(points, dtype=np.float64)[tets]
+    if tets.shape[1] == 10:
+        return _tet10_jacobians(x, _GAUSS4).sum(axis=1) / 24.0
     e1, e2, e3 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], x[:, 3] - x[:, 0]
     return np.einsum("ij,ij->i", e1, np.cross(e2, e3)) / 6.0
 
@@ -70,10 +77,16 @@ def radius_edge_ratio(points, tets) -> np.ndarray:
 
 # Derivatives of the 10-node shape functions in barycentric form at the
 # corners and the centroid: J = sum_a x_a dN_a/dxi.
-def _tet10_jacobians(x):
-    """Jacobian determinants of 10-node tets at the 4 corners and the centroid, ``(m, 5)``."""
+_CORNERS_CENTRE = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.25, 0.25, 0.25]], dtype=np.float64)
+_GA, _GB = 0.5854101966249685, 0.1381966011250105
+#: 4-point Gauss rule on the reference tetrahedron (weights 1/24 each).
+_GAUSS4 = np.array([[_GB, _GB, _GB], [_GA, _GB, _GB], [_GB, _GA, _GB], [_GB, _GB, _GA]])
+
+
+def _tet10_jacobians(x, pts=_CORNERS_CENTRE):
+    """Jacobian determinants of 10-node tets at natural coordinates `pts` (default: the
+    4 corners and the centroid), ``(m, len(pts))``."""
     # Natural coordinates (xi, eta, zeta); L0 = 1 - xi - eta - zeta.
-    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.25, 0.25, 0.25]], dtype=np.float64)
     out = []
     for xi, eta, zeta in pts:
         l0 = 1 - xi - eta - zeta
@@ -103,7 +116,7 @@ def scaled_jacobian(points, tets) -> np.ndarray:
     x = np.asarray(points, dtype=np.float64)[tets]
     c = x[:, :4]
     best = np.full(len(tets), np.inf)
-    vol6 = 6.0 * tet_volumes(points, tets)
+    vol6 = 6.0 * tet_volumes(points, tets[:, :4])
     for k in range(4):
         others = _OPP[k]
         e = c[:, others] - c[:, k:k + 1]
@@ -136,7 +149,7 @@ class TetQuality:
     n_below : int
         Elements with a dihedral angle under the asked minimum.
     volume : float
-        Sum of the element volumes (straight-sided corner tetrahedra).
+        Sum of the element volumes (curved for 10-node elements).
     """
 
     n_nodes: int

@@ -69,6 +69,19 @@ def test_regular_tetrahedron_measures():
     assert scaled_jacobian(REGULAR, [[0, 1, 2, 3]])[0] == pytest.approx(-1.0)
 
 
+def test_quadratic_volume_of_a_straight_element_is_its_corner_volume():
+    p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    e = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]])
+    pts = np.concatenate([p, 0.5 * (p[e[:, 0]] + p[e[:, 1]])])
+    assert tet_volumes(pts, [np.arange(10)])[0] == pytest.approx(1 / 6, rel=1e-14)
+    assert scaled_jacobian(pts, [np.arange(10)])[0] == pytest.approx(scaled_jacobian(p, [[0, 1, 2, 3]])[0])
+    # Moving the mid node of edge 01 out of the side y = 0 by d adds d * integral of the
+    # bubble 4 L0 L1 over that side = d * 4 * (1/2) / 12 = d / 6 (exactly: det J is linear in y).
+    bulged = pts.copy()
+    bulged[4, 1] = -0.1
+    assert tet_volumes(bulged, [np.arange(10)])[0] == pytest.approx(1 / 6 + 0.1 / 6, rel=1e-13)
+
+
 def test_right_corner_tetrahedron_dihedrals():
     p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
     d = np.sort(dihedral_angles(p, [[0, 1, 2, 3]])[0])
@@ -206,6 +219,11 @@ def test_quadratic_tets_put_boundary_midnodes_on_the_surface():
     boundary_nodes = np.unique(np.concatenate([m.node_sets["surface"]]))
     assert np.abs(s(m.points[boundary_nodes])).max() < 1e-8
     assert np.all(scaled_jacobian(m.points, m.tets) > 0)
+    # Curved elements hold the torus volume far better than their straight corners.
+    exact = 2 * np.pi**2 * 1.0 * 0.4**2
+    linear = tet_volumes(m.points, m.tets[:, :4]).sum()
+    assert abs(m.volume - exact) < abs(linear - exact) / 5
+    assert m.volume == pytest.approx(exact, rel=2e-3)
     # Interior mid nodes are edge midpoints.
     mids = m.tets[:, 4:]
     ends = m.tets[:, [0, 1, 0, 0, 1, 2]], m.tets[:, [1, 2, 2, 3, 3, 3]]
