@@ -194,6 +194,9 @@ class Surface:
         """Triangulate the surface on a regular ``nu x nv`` parameter grid.
 
         Triangles wind counter-clockwise about ``Su x Sv`` (the :meth:`normal`).
+        Seams and poles of closed surfaces are not merged: their duplicate
+        points (and the zero-area triangles at a pole) are left for the mesh
+        layer to clean.
 
         Returns
         -------
