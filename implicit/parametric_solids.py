@@ -57,7 +57,7 @@ __all__ = [
 NEWTON_ITERATIONS = 12
 #: Seed samples per control point along each surface direction (clipped to
 #: [MIN_SURFACE_SAMPLES, MAX_SURFACE_SAMPLES]).
-SURFACE_SAMPLES_PER_CONTROL = 6
+SURFACE_SAMPLES_PER_CONTROL = 8
 MIN_SURFACE_SAMPLES = 24
 MAX_SURFACE_SAMPLES = 192
 #: Tessellation of each patch for winding numbers and orientation.
@@ -183,7 +183,7 @@ class SurfaceProjector:
     ----------
     surface : Surface
     samples : (2,) int, optional
-        Seed grid (default 6 samples per control point each way, 24 to 192).
+        Seed grid (default 8 samples per control point each way, 24 to 192).
 
     Examples
     --------
@@ -201,20 +201,29 @@ class SurfaceProjector:
         (au, bu), (av, bv) = surface.domain_u, surface.domain_v
         self.surface = surface
         self.dom = (float(au), float(bu), float(av), float(bv))
-        # seeds at cell centres: a collapsed edge (a pole) is never a seed, so
-        # the seed's other parameter already points the right way
+        # seeds on a regular grid that includes the domain's edges, except an
+        # edge collapsed to a point (a pole): its samples all coincide, so the
+        # seed's other parameter would be arbitrary there
         nu, nv = int(samples[0]), int(samples[1])
-        self.su = au + (np.arange(nu) + 0.5) / nu * (bu - au)
-        self.sv = av + (np.arange(nv) + 0.5) / nv * (bv - av)
-        self.points = surface.grid(self.su, self.sv).reshape(-1, 3)
-        self.tree = cKDTree(self.points)
-        size = float(np.max(self.points.max(axis=0) - self.points.min(axis=0)))
+        su, sv = np.linspace(au, bu, nu), np.linspace(av, bv, nv)
+        grid = surface.grid(su, sv)
+        size = float(np.max(grid.reshape(-1, 3).max(axis=0) - grid.reshape(-1, 3).min(axis=0)))
         tol = 1e-9 * max(size, 1e-300)
-        ends_u = surface.grid(np.array([au, bu]), self.sv)
-        ends_v = surface.grid(self.su, np.array([av, bv]))
+        keep_u = np.ones(nu, bool)
+        keep_v = np.ones(nv, bool)
+        for idx in (0, -1):
+            keep_u[idx] = np.ptp(grid[idx], axis=0).max() > tol
+            keep_v[idx] = np.ptp(grid[:, idx], axis=0).max() > tol
         #: Closed directions (the edges u = a, u = b coincide): parameters wrap there.
-        self.closed_u = bool(np.max(np.linalg.norm(ends_u[0] - ends_u[1], axis=-1)) <= tol)
-        self.closed_v = bool(np.max(np.linalg.norm(ends_v[:, 0] - ends_v[:, 1], axis=-1)) <= tol)
+        self.closed_u = bool(np.max(np.linalg.norm(grid[0] - grid[-1], axis=-1)) <= tol)
+        self.closed_v = bool(np.max(np.linalg.norm(grid[:, 0] - grid[:, -1], axis=-1)) <= tol)
+        self.su, self.sv = su[keep_u], sv[keep_v]
+        self.points = np.ascontiguousarray(grid[keep_u][:, keep_v].reshape(-1, 3))
+        self.tree = cKDTree(self.points)
+
+    @staticmethod
+    def _clip_step(x, dx, a, b, closed):
+        return dx if closed else np.clip(x + dx, a, b) - x
 
     def _move(self, u, v):
         au, bu, av, bv = self.dom
@@ -252,20 +261,51 @@ class SurfaceProjector:
                 a22 = np.where(bad, svv + lam, a22)
                 det = a11 * a22 - a12 * a12
             det = np.where(np.abs(det) > 1e-300, det, 1e-300)
-            du = np.clip(-(a22 * f - a12 * g) / det, -0.25 * (bu - au), 0.25 * (bu - au))
-            dv = np.clip(-(a11 * g - a12 * f) / det, -0.25 * (bv - av), 0.25 * (bv - av))
+            du = -(a22 * f - a12 * g) / det
+            dv = -(a11 * g - a12 * f) / det
+            # projected Newton: a step that would cross a domain edge stops on
+            # it, and the other parameter takes the quadratic model's best step
+            # with the first one fixed
+            if not self.closed_u:
+                tu = np.clip(ua + du, au, bu) - ua
+                cu = tu != du
+            else:
+                tu, cu = du, np.zeros(du.shape, bool)
+            if not self.closed_v:
+                tv = np.clip(va + dv, av, bv) - va
+                cv = tv != dv
+            else:
+                tv, cv = dv, np.zeros(dv.shape, bool)
+            if np.any(cu | cv):
+                a11p, a22p = np.maximum(a11, 1e-300), np.maximum(a22, 1e-300)
+                # candidate A holds u on its edge, candidate B holds v
+                au_, av_ = tu, self._clip_step(va, -(g + a12 * tu) / a22p, av, bv, self.closed_v)
+                bv_, bu_ = tv, self._clip_step(ua, -(f + a12 * tv) / a11p, au, bu, self.closed_u)
+
+                def model(x, y):
+                    return f * x + g * y + 0.5 * (a11 * x * x + 2 * a12 * x * y + a22 * y * y)
+
+                take_a = (cu & ~cv) | (cu & cv & (model(au_, av_) <= model(bu_, bv_)))
+                take_b = (cv & ~cu) | (cu & cv & ~take_a)
+                du = np.where(take_a, au_, np.where(take_b, bu_, du))
+                dv = np.where(take_a, av_, np.where(take_b, bv_, dv))
+            du = np.clip(du, -0.25 * (bu - au), 0.25 * (bu - au))
+            dv = np.clip(dv, -0.25 * (bv - av), 0.25 * (bv - av))
             nu_, nv_ = self._move(ua + du, va + dv)
             rn = S(nu_, nv_) - Pa
             dn = _dot(rn, rn)
-            worse = dn > dk[active]
-            if np.any(worse):
-                hu, hv = self._move(ua[worse] + 0.5 * du[worse], va[worse] + 0.5 * dv[worse])
+            worse = np.flatnonzero(dn > dk[active])
+            for factor in (0.5, 0.125):  # shorter steps where the full one overshoots
+                if worse.size == 0:
+                    break
+                hu, hv = self._move(ua[worse] + factor * du[worse], va[worse] + factor * dv[worse])
                 rh = S(hu, hv) - Pa[worse]
                 dh = _dot(rh, rh)
                 ok = dh < dk[active][worse]
                 nu_[worse] = np.where(ok, hu, ua[worse])
                 nv_[worse] = np.where(ok, hv, va[worse])
                 dn[worse] = np.where(ok, dh, dk[active][worse])
+                worse = worse[~ok]
             mu, mv = np.abs(nu_ - ua) / (bu - au), np.abs(nv_ - va) / (bv - av)
             if self.closed_u:
                 mu = np.minimum(mu, 1.0 - mu)
@@ -625,7 +665,11 @@ class VolumeSolid(Solid):
         best = np.full(p.shape[0], np.inf)
         for pr in self._projs:
             best = np.minimum(best, pr.project(p)[2])
-        _, inside = self.invert(p)
+        lo, hi = self.bounds
+        boxed = np.flatnonzero(np.all((p >= lo) & (p <= hi), axis=1))  # outside the hull box: outside
+        inside = np.zeros(p.shape[0], dtype=bool)
+        if boxed.size:
+            inside[boxed] = self.invert(p[boxed])[1]
         return np.where(inside, -best, best)
 
 
