@@ -47,6 +47,9 @@ __all__ = [
 #: Points per block in the (points x edges) polygon distance.
 _BLOCK = 2048
 
+#: Most vertices of a polygon profile (its validation checks all edge pairs).
+MAX_POLYGON_VERTICES = 20000
+
 #: Nesting limit of a profile read from a dict.
 MAX_PROFILE_DEPTH = 100
 
@@ -117,32 +120,60 @@ def polygon_distance(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
 
 
 def _segments_cross(vertices: np.ndarray) -> bool:
-    """True when two non-adjacent edges of the closed polygon intersect."""
+    """True when two non-adjacent edges of the closed polygon intersect.
+
+    Sort and sweep: edges sorted by their lowest x; only pairs whose x
+    ranges overlap are tested (a handful per edge for ordinary outlines),
+    in batches of pairs so that memory stays bounded.
+    """
     m = len(vertices)
     a = vertices
     b = np.roll(vertices, -1, axis=0)
-    i, j = np.triu_indices(m, k=2)
-    keep = ~((i == 0) & (j == m - 1))
-    i, j = i[keep], j[keep]
-    if i.size == 0:
-        return False
+    lo = np.minimum(a, b)
+    hi = np.maximum(a, b)
+    order = np.argsort(lo[:, 0], kind="stable")
+    lo_sorted = lo[order, 0]
+    # Edge order[k] can only meet edges order[k+1 : end[k]].
+    end = np.searchsorted(lo_sorted, hi[order, 0], side="right")
+    counts = np.maximum(end - np.arange(m) - 1, 0)
 
     def orient(p, q, r):
         return np.sign((q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1])
                        - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0]))
 
-    p1, p2, q1, q2 = a[i], b[i], a[j], b[j]
-    o1, o2 = orient(p1, p2, q1), orient(p1, p2, q2)
-    o3, o4 = orient(q1, q2, p1), orient(q1, q2, p2)
-    proper = (o1 * o2 < 0) & (o3 * o4 < 0)
-
     def on_segment(p, q, r, o):  # r on segment pq, given collinear
         return (o == 0) & (np.minimum(p[:, 0], q[:, 0]) <= r[:, 0]) & (r[:, 0] <= np.maximum(p[:, 0], q[:, 0])) \
             & (np.minimum(p[:, 1], q[:, 1]) <= r[:, 1]) & (r[:, 1] <= np.maximum(p[:, 1], q[:, 1]))
 
-    touch = on_segment(p1, p2, q1, o1) | on_segment(p1, p2, q2, o2) | on_segment(q1, q2, p1, o3) \
-        | on_segment(q1, q2, p2, o4)
-    return bool(np.any(proper | touch))
+    budget = 2_000_000
+    start = 0
+    cum = np.concatenate([[0], np.cumsum(counts)])
+    while start < m:
+        stop = int(np.searchsorted(cum, cum[start] + budget, side="right")) - 1
+        stop = min(max(stop, start + 1), m)
+        ks = np.arange(start, stop)
+        c = counts[ks]
+        total = int(c.sum())
+        start = stop
+        if total == 0:
+            continue
+        k_rep = np.repeat(ks, c)
+        offset = np.arange(total) - np.repeat(np.cumsum(c) - c, c)
+        i, j = order[k_rep], order[k_rep + 1 + offset]
+        near = (np.abs(i - j) > 1) & (np.abs(i - j) != m - 1)
+        near &= (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1])
+        i, j = i[near], j[near]
+        if i.size == 0:
+            continue
+        p1, p2, q1, q2 = a[i], b[i], a[j], b[j]
+        o1, o2 = orient(p1, p2, q1), orient(p1, p2, q2)
+        o3, o4 = orient(q1, q2, p1), orient(q1, q2, p2)
+        proper = (o1 * o2 < 0) & (o3 * o4 < 0)
+        touch = on_segment(p1, p2, q1, o1) | on_segment(p1, p2, q2, o2) | on_segment(q1, q2, p1, o3) \
+            | on_segment(q1, q2, p2, o4)
+        if np.any(proper | touch):
+            return True
+    return False
 
 
 def as_polygon(vertices, name: str = "vertices") -> np.ndarray:
@@ -156,6 +187,8 @@ def as_polygon(vertices, name: str = "vertices") -> np.ndarray:
         raise TypeError(f"{name}: expected an (m, 2) array of numbers") from exc
     if v.ndim != 2 or v.shape[1] != 2 or v.shape[0] < 3:
         raise ValueError(f"{name}: expected an (m, 2) array with m >= 3, got shape {v.shape}")
+    if v.shape[0] > MAX_POLYGON_VERTICES:
+        raise ValueError(f"{name}: expected at most {MAX_POLYGON_VERTICES} vertices, got {v.shape[0]}")
     if not np.isfinite(v).all():
         raise ValueError(f"{name}: expected finite numbers")
     if np.allclose(v[0], v[-1], rtol=0, atol=0) and len(v) > 3:

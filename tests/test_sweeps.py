@@ -232,3 +232,17 @@ def test_bad_profiles():
         extrude(circle(1.0), -1)
     with pytest.raises(ValueError, match=r"points: expected an array of shape \(\.\.\., 2\)"):
         circle(1.0)([[0, 0, 0]])
+
+
+def test_large_polygons_are_checked_quickly_and_capped():
+    from implicit.sweeps import MAX_POLYGON_VERTICES
+    a = np.linspace(0, 2 * np.pi, MAX_POLYGON_VERTICES, endpoint=False)
+    ring = polygon(np.column_stack([np.cos(a), np.sin(a)]))          # sort-and-sweep: well under a second
+    assert ring([[0.0, 0.0]])[0] == pytest.approx(-1.0, abs=1e-7)
+    crossed = np.column_stack([np.cos(a), np.sin(a)])
+    crossed[[10, 5000]] = crossed[[5000, 10]]                          # two far vertices swapped
+    with pytest.raises(ValueError, match="edges cross"):
+        polygon(crossed)
+    b = np.linspace(0, 2 * np.pi, MAX_POLYGON_VERTICES + 1, endpoint=False)
+    with pytest.raises(ValueError, match=rf"expected at most {MAX_POLYGON_VERTICES} vertices, got {MAX_POLYGON_VERTICES + 1}"):
+        polygon(np.column_stack([np.cos(b), np.sin(b)]))
