@@ -38,6 +38,9 @@ __all__ = [
 ]
 
 
+#: Most half-spaces of a convex polyhedron.
+MAX_PLANES = 10000
+
 #: Points per block in the (points x faces) distance computations.
 _BLOCK = 2048
 
@@ -208,6 +211,8 @@ def _as_planes(normals, points):
         raise TypeError("normals, points: expected (m, 3) arrays of numbers") from exc
     if n.ndim != 2 or n.shape[1] != 3 or n.shape[0] < 4:
         raise ValueError(f"normals: expected an (m, 3) array with m >= 4, got shape {n.shape}")
+    if n.shape[0] > MAX_PLANES:
+        raise ValueError(f"normals: expected at most {MAX_PLANES} planes, got {n.shape[0]}")
     if q.shape != n.shape:
         raise ValueError(f"points: expected the shape of normals {n.shape}, got {q.shape}")
     if not (np.isfinite(n).all() and np.isfinite(q).all()):

@@ -47,6 +47,8 @@ NAN, INF = float("nan"), float("inf")
     (lambda: I.convex_polyhedron([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1]],
                                  [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1]]),
      ValueError, r"do not bound a finite solid \(unbounded along -z\)"),
+    (lambda: I.convex_polyhedron(np.ones((10001, 3)), np.zeros((10001, 3))), ValueError,
+     r"^normals: expected at most 10000 planes, got 10001$"),
     (lambda: I.halfspace((0, 0, 0)), ValueError, r"^normal: expected a nonzero vector"),
     (lambda: I.sphere(1).translate((NAN, 0, 0)), ValueError, r"^offset: expected finite numbers"),
     (lambda: I.sphere(1).rotate(INF), ValueError, r"^angle_degrees: expected a finite number, got inf$"),

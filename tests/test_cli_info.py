@@ -28,7 +28,7 @@ def test_info_benchmark_part(capsys):
     lines = out.splitlines()
     assert lines[1] == "tree:" and lines[2] == "  difference()"
     assert "      sphere(radius=1, center=[0, 0, 0])" in lines
-    assert "nodes: 7  primitives: 5  depth: 3" in out
+    assert "nodes: 7  primitives: 5 (5 exact, 0 bound)  depth: 3" in out
     assert "kinds: box 1, cylinder 3, difference 1, intersection 1, sphere 1" in out
     assert "field: conservative bound (|f| <= distance), Lipschitz 1" in out
     assert "bounds: (-0.75, -0.75, -0.75) .. (0.75, 0.75, 0.75)  size 1.5 x 1.5 x 1.5" in out
@@ -47,6 +47,7 @@ def test_info_json(capsys):
     data = json.loads(out)
     assert status == 0
     assert data["nodes"] == 9 and data["primitives"] == 6 and data["field"] == "bound"
+    assert data["exact_primitives"] == 6
     assert data["bounds"] == [[0.0, 0.0, 0.0], [50.0, 30.0, 40.0]]
     assert data["families"][0]["family"] == "l_bracket"
     assert data["families"][0]["params"]["hole_diameter"] == 6.0

@@ -49,10 +49,12 @@ def summary(solid) -> dict:
     fams = [{"family": n.family_name, "params": n.values,
              "units": {p.name: p.unit for p in _family_params(n.family_name)}}
             for n in solid.walk() if isinstance(n, FamilyInstance)]
+    leaves = [n for n in solid.walk() if not n.children]
     return {
         "kind": solid.kind,
         "nodes": solid.count_nodes(),
         "primitives": solid.count_primitives(),
+        "exact_primitives": sum(1 for n in leaves if n.exact),
         "depth": solid.depth(),
         "field": "exact" if solid.exact else "bound",
         "lipschitz": solid.lipschitz,
@@ -82,7 +84,9 @@ def _text(name: str, solid, show_tree: bool) -> list[str]:
         lines.extend("  " + line for line in solid.tree().splitlines())
     field = ("exact signed distance" if info["field"] == "exact"
              else "conservative bound (|f| <= distance)")
-    lines.append(f"nodes: {info['nodes']}  primitives: {info['primitives']}  depth: {info['depth']}")
+    bound_leaves = info["primitives"] - info["exact_primitives"]
+    lines.append(f"nodes: {info['nodes']}  primitives: {info['primitives']} ({info['exact_primitives']} exact, "
+                 f"{bound_leaves} bound)  depth: {info['depth']}")
     lines.append("kinds: " + ", ".join(f"{k} {n}" for k, n in info["kinds"].items()))
     lines.append(f"field: {field}, Lipschitz {info['lipschitz']:g}")
     if info["bounds_state"] == "empty":
