@@ -49,8 +49,11 @@ def timed(func, runs=RUNS):
 def main(runs=RUNS):
     solid = part()
     rows = []
+    import warnings
+
+    warnings.simplefilter("ignore", RuntimeWarning)     # 1e-5 is beyond the sharp part's floor
     for tol in (1e-3, 1e-4, 1e-5):
-        t, p = timed(lambda: mass_properties(solid, tolerance=tol), runs)
+        t, p = timed(lambda: mass_properties(solid, tolerance=tol), runs if tol > 1e-5 else 1)
         rows.append((f"mesh + Richardson, tolerance {tol:g}", t, p.volume, p.error.volume, p.voxel_size))
     for n in (64, 128, 256):
         t, p = timed(lambda: mass_properties(solid, resolution=n), max(1, runs // 2) if n > 128 else runs)
