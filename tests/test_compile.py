@@ -144,8 +144,9 @@ def test_pruning_switches_off_most_operands_of_a_plate_and_keeps_values():
     pts = lo + (hi - lo) * np.random.default_rng(3).random((20000, 3))
     compiled = compile_solid(part)
     with fast._Workspace(len(pts)) as (cell, order, sorted_pts, values):
-        g = 7
-        starts, blo, bhi = fast._kernel("bin")(pts, lo, g / (hi - lo), g, cell, order, sorted_pts)
+        g, scale = fast._grid(lo, hi, len(pts))
+        assert g.tolist() == [9, 6, 2]  # near-cubic bins of about 256 points
+        starts, blo, bhi = fast._kernel("bin")(pts, lo, scale, g, cell, order, sorted_pts)
         # Every point lands in its bin's box, bins are contiguous runs.
         assert starts[0] == 0 and starts[-1] == len(pts)
         assert np.array_equal(np.sort(order), np.arange(len(pts)))
@@ -286,3 +287,14 @@ def test_register_rule_validates_its_arguments():
         compile_solid("sphere")
     with pytest.raises(ValueError, match="points: expected an array of shape"):
         compile_solid(sphere(1.0))(np.zeros((3, 2)))
+
+
+def test_points_on_a_plane_are_binned_in_two_dimensions():
+    g, scale = fast._grid(np.zeros(3), np.array([2.0, 1.0, 0.0]), 256 * 50)
+    assert g.tolist() == [10, 5, 1] and scale[2] == 0.0
+    assert fast._grid(np.zeros(3), np.array([np.inf, 1.0, 1.0]), 1000) is None
+    part = _plate()
+    xy = np.random.default_rng(8).uniform(-4.5, 4.5, (30000, 2))
+    pts = np.column_stack([xy, np.full(len(xy), 0.25)])
+    np.testing.assert_allclose(compile_solid(part)(pts, prune=True), fast._numpy_evaluate(part, pts),
+                               rtol=TOL, atol=TOL)
