@@ -317,6 +317,11 @@ def test_surface_formats_and_bad_extension(tmp_path, bench_tets):
     write_fea(bench_tets, tmp_path / "b.stl")
     surf = pv.read(tmp_path / "b.stl")
     assert surf.n_cells == len(bench_tets.boundary)
+    write_fea(bench_tets, tmp_path / "b.ply")
+    ply = pv.read(tmp_path / "b.ply")
+    assert ply.n_cells == len(bench_tets.boundary) and ply.n_points == len(np.unique(bench_tets.boundary))
+    assert ply.volume == pytest.approx(bench_tets.volume, rel=1e-6)  # float32 coordinates
+    (tmp_path / "b.ply").unlink()
     with pytest.raises(ValueError, match=r"unknown extension '\.xyz'; expected one of \.msh"):
         write_fea(bench_tets, tmp_path / "b.xyz")
     with pytest.raises(TypeError, match="mesh: expected a TetMesh"):
