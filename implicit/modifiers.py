@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .csg import bound_slack
 from .solid import Solid, as_finite, as_positive, register_operator
 
 __all__ = ["Offset", "Shell", "offset", "shell"]
@@ -26,7 +27,9 @@ class Offset(Solid):
             raise TypeError(f"offset: solid must be a Solid, got {type(solid).__name__}")
         d = as_finite(distance, "distance")
         lo, hi = solid.bounds
-        pad = max(d, 0.0)
+        # A bound field grows farther than `d` beyond the child's bounds where it
+        # underestimates the distance: scale by the child's slack.
+        pad = max(d, 0.0) * bound_slack(solid)
         super().__init__((solid,), {"distance": d}, (lo - pad, hi + pad),
                          exact=solid.exact and d == 0, lipschitz=solid.lipschitz)
 
@@ -50,7 +53,8 @@ class Shell(Solid):
             raise TypeError(f"shell: solid must be a Solid, got {type(solid).__name__}")
         t = as_positive(thickness, "thickness")
         lo, hi = solid.bounds
-        super().__init__((solid,), {"thickness": t}, (lo - t / 2, hi + t / 2),
+        pad = t / 2 * bound_slack(solid)
+        super().__init__((solid,), {"thickness": t}, (lo - pad, hi + pad),
                          exact=False, lipschitz=solid.lipschitz)
 
     def _evaluate(self, p):

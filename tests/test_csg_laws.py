@@ -52,6 +52,8 @@ CATALOG = {
     "offset_grow": offset(_B, 0.2),
     "offset_shrink": offset(_B, -0.1),
     "shell": shell(_A, 0.1),
+    "offset_of_a_bound": offset(ellipsoid((1.0, 0.1, 0.1)), 0.15),
+    "shell_of_a_stretch": shell(_A.scale((1.0, 0.25, 1.0)), 0.3),
     "extrude": extrude(circle(0.5) - rectangle((0.3, 0.3)), 0.8, axis=(0, 1, 1)),
     "revolve": revolve(polygon([(0.2, -0.3), (0.7, -0.3), (0.5, 0.3)])),
     "revolve_partial": revolve(circle(0.2, center=(0.6, 0)), 120, axis=(1, 0, 0)),
