@@ -18,8 +18,9 @@ from .surfaces import Surface
 
 __all__ = ["project_to_curve", "project_to_surface", "PROJECTION_TOL"]
 
-#: Relative step size at which Newton iterations stop.
-PROJECTION_TOL = 1e-12
+#: Relative parameter step below which Newton iterations stop (the step is still
+#: taken; Newton's quadratic convergence leaves an error near its square).
+PROJECTION_TOL = 1e-9
 
 
 def _query_points(points, dim):
@@ -133,7 +134,9 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
         Seed grid (default: 8 per control point of a tensor surface, 32 to 256
         each way).
     iterations : int
+        Maximum Newton iterations.
     tol : float
+        Stop when both parameter steps are below ``tol`` times their domain length.
 
     Returns
     -------
