@@ -185,13 +185,17 @@ def from_dict(data: Any, *, max_depth: int = MAX_DEPTH, max_nodes: int = MAX_NOD
         order.append((cls, params, len(raw), path))
         stack.extend((c, f"{path}.children[{i}]", depth + 1) for i, c in enumerate(raw))
     results: list[Solid] = []
+    signatures: dict[type, inspect.Signature] = {}
     for cls, params, n, path in reversed(order):
         children = results[len(results) - n:] if n else []
         if n:
             del results[len(results) - n:]
         if cls.from_params.__func__ is Solid.from_params.__func__:
+            sig = signatures.get(cls)
+            if sig is None:
+                sig = signatures[cls] = inspect.signature(cls)
             try:
-                inspect.signature(cls).bind(*children, **params)
+                sig.bind(*children, **params)
             except TypeError as exc:
                 raise TypeError(f"{_short(path)}: {cls.kind}: {exc}") from None
         try:
