@@ -58,6 +58,9 @@ DEFAULT_BLOCK = 32
 REFINE_STEPS = 6
 #: A vertex stops moving once ``|f| <= REFINE_TOL * h``.
 REFINE_TOL = 1e-4
+#: A vertex with ``|f| <= REFINE_ACCEPT * h`` takes one more regula-falsi step without a further
+#: evaluation: the step shrinks the error by about the curvature times h (a thousandth here).
+REFINE_ACCEPT = 2e-3
 #: Boxes bounded per call while descending (caps the memory of the classification).
 CLASSIFY_CHUNK = 1 << 18
 #: Points evaluated per call (caps the memory of an evaluation).
@@ -368,15 +371,18 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
     ny = -(-(hi[1] - y0) // block) * block + 1
     nz = -(-(hi[2] - z0) // block) * block + 1
     local = sc * c - np.array([x0, y0, z0])
-    # nodes of the cells, and the voxels inside the cells (marching-cubes mask)
+    # the voxels inside the cells (marching-cubes mask) and the nodes of those voxels
+    cellmask = np.zeros((block // c, (ny - 1) // c, (nz - 1) // c), dtype=bool)
+    cellmask[local[:, 0] // c, local[:, 1] // c, local[:, 2] // c] = True
+    vox = cellmask
+    if c > 1:
+        vox = np.broadcast_to(cellmask[:, None, :, None, :, None], cellmask.shape[:1] + (c,) + cellmask.shape[1:2]
+                              + (c,) + cellmask.shape[2:] + (c,)).reshape(block, ny - 1, nz - 1)
     need = np.zeros((block + 1, ny, nz), dtype=bool)
-    vox = np.zeros((block, ny - 1, nz - 1), dtype=bool)
-    for i in range(c + 1):
-        for j in range(c + 1):
-            for k in range(c + 1):
-                need[local[:, 0] + i, local[:, 1] + j, local[:, 2] + k] = True
-                if i < c and j < c and k < c:
-                    vox[local[:, 0] + i, local[:, 1] + j, local[:, 2] + k] = True
+    for i in (0, 1):
+        for j in (0, 1):
+            for k in (0, 1):
+                need[i:i + block, j:j + ny - 1, k:k + nz - 1] |= vox
     values = np.full((block + 1, ny, nz), np.float32(1.0), dtype=np.float32)
     known = np.zeros((ny, nz), dtype=bool)
     if handoff is not None and handoff[0] == slab - 1:
@@ -386,19 +392,22 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
         if ya < yb and za < zb:
             values[0, ya - y0:yb - y0, za - z0:zb - z0] = pvals[ya - py0:yb - py0, za - pz0:zb - pz0]
             known[ya - y0:yb - y0, za - z0:zb - z0] = pknown[ya - py0:yb - py0, za - pz0:zb - pz0]
-    todo = need.copy()
-    todo[0] &= ~known
-    idx = np.nonzero(todo)
-    spent = int(idx[0].shape[0])
+    need[0] &= ~known  # the lower plane's values came from the previous slab
+    flat = np.flatnonzero(need)
+    spent = int(flat.shape[0])
     if spent:
+        ix, rest = np.divmod(flat, ny * nz)
+        iy, iz = np.divmod(rest, nz)
+        del rest
         pts = np.empty((spent, 3))
-        pts[:, 0] = origin[0] + (idx[0] + x0) * h
-        pts[:, 1] = origin[1] + (idx[1] + y0) * h
-        pts[:, 2] = origin[2] + (idx[2] + z0) * h
-        values[idx] = _nudge(_evaluate(solid, pts), h).astype(np.float32)
+        pts[:, 0] = origin[0] + (ix + x0) * h
+        pts[:, 1] = origin[1] + (iy + y0) * h
+        pts[:, 2] = origin[2] + (iz + z0) * h
+        del ix, iy, iz
+        values.reshape(-1)[flat] = _nudge(_evaluate(solid, pts), h).astype(np.float32)
         del pts
-    del todo, idx
-    handoff = (slab, y0, z0, values[block].copy(), need[block].copy())
+    del flat
+    handoff = (slab, y0, z0, values[block].copy(), need[block].copy())  # every needed upper node was evaluated here
     # -- blocks -------------------------------------------------------------------------
     bkeys = np.unique((local[:, 1] // block) * (nz // block + 1) + local[:, 2] // block)
     shape = (block + 1,) * 3
@@ -418,26 +427,28 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
     return int(bkeys.shape[0]), spent, handoff
 
 
-def _refine_on_edges(solid, p0, axis, h, t, f0, f1, steps=REFINE_STEPS, tol=REFINE_TOL, chunk=EVAL_CHUNK):
+def _refine_on_edges(solid, p0, axis, h, t, f0, f1, steps=REFINE_STEPS, tol=REFINE_TOL, accept=REFINE_ACCEPT,
+                     chunk=EVAL_CHUNK):
     """Illinois regula falsi for the root of f along each vertex's edge.
 
     Vertex ``i`` lies at ``p0[i] + t[i] * h * e[axis[i]]``.  The bracket
     ``[a, b]`` (initially ``[0, 1]``, end values of opposite signs) is kept,
     so every vertex stays on its edge.  Only vertices whose value is still
-    above ``tol * h`` are evaluated again.  Works on chunks of vertices to
-    bound the temporaries.  Returns the new parameters and the number of
+    above ``tol * h`` are updated; those already within ``accept * h`` take
+    that last update without being evaluated again.  Works on chunks of
+    vertices to bound the temporaries.  Returns the new parameters and the number of
     evaluations spent.
     """
     out = np.empty_like(t)
     spent = 0
     for s0 in range(0, t.shape[0], chunk):
         sl = slice(s0, s0 + chunk)
-        out[sl], used = _refine_chunk(solid, p0[sl], axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol)
+        out[sl], used = _refine_chunk(solid, p0[sl], axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol, accept)
         spent += used
     return out, spent
 
 
-def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol):
+def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol, accept):
     n = t.shape[0]
     t = t.copy()
     a = np.zeros(n)
@@ -472,4 +483,5 @@ def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol):
         t[active] = np.clip(t_new, aa, ba)
         a[active], b[active], fa[active], fb[active] = aa, ba, new_fa, new_fb
         side[active] = np.where(left, 1, -1)
+        active = active[np.abs(ft) > accept * h]
     return t, spent

@@ -13,7 +13,7 @@ from spatial.boundary import mesh_block
 from meshcheck import min_area, signed_volume, topology, vertex_manifold
 
 #: Refined vertices lie this close to the surface, in voxels.
-REFINED_TOL = 1e-3
+REFINED_TOL = 2e-3
 #: Interpolated (unrefined) vertices stay within this many voxels of the surface.
 UNREFINED_TOL = 0.2
 
