@@ -576,17 +576,110 @@ def _shell_of(solid, a, b, c, area, c0):
 
 
 def _solid_level(solid, h, c0, mesher, correct=True, check=False) -> np.ndarray:
+    """Raw moments (14,) of the corrected mesh of `solid` at cell size `h`."""
     mesh = mesher(solid, h)
     if mesh.n_cells == 0:     # a feature thinner than this level's cells
         return np.zeros(14)
     pts, tri = _faces_array(mesh)
     if check:
         _check_closed(tri, pts.shape[0])
+    kernels = _kernels()
+    if kernels is not None:
+        level, shell = kernels
+        vec, mids, weights = level(np.ascontiguousarray(pts), np.ascontiguousarray(tri), c0)
+        if correct:
+            vec[:13] += shell(mids, weights * -solid(mids), c0)
+        return vec
     a, b, c, cross, area = _corners(pts, tri, c0)
     vec = _moments_of(a, b, c, cross, area, c0).vector()
     if correct:
         vec[:13] += _shell_of(solid, a, b, c, area, c0)
     return vec
+
+
+_KERNELS: list = []
+
+
+def _kernels():
+    """numba versions of the per-triangle sums (one pass, no temporaries),
+    or None without numba (the numpy path computes the same sums)."""
+    if _KERNELS:
+        return _KERNELS[0]
+    try:
+        import numba
+    except ImportError:  # pragma: no cover - numba is a dependency
+        _KERNELS.append(None)
+        return None
+
+    @numba.njit(cache=True, fastmath=False)
+    def level(pts, tri, c0):
+        m = tri.shape[0]
+        out = np.zeros(14)
+        mids = np.empty((3 * m, 3))
+        weights = np.empty(3 * m)
+        for k in range(m):
+            i, j, l = tri[k, 0], tri[k, 1], tri[k, 2]
+            ax, ay, az = pts[i, 0] - c0[0], pts[i, 1] - c0[1], pts[i, 2] - c0[2]
+            bx, by, bz = pts[j, 0] - c0[0], pts[j, 1] - c0[1], pts[j, 2] - c0[2]
+            cx, cy, cz = pts[l, 0] - c0[0], pts[l, 1] - c0[1], pts[l, 2] - c0[2]
+            ux, uy, uz = bx - ax, by - ay, bz - az
+            vx, vy, vz = cx - ax, cy - ay, cz - az
+            nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+            area = 0.5 * np.sqrt(nx * nx + ny * ny + nz * nz)
+            det = ax * nx + ay * ny + az * nz
+            sx, sy, sz = ax + bx + cx, ay + by + cy, az + bz + cz
+            out[0] += det / 6.0
+            out[1] += det * sx / 24.0
+            out[2] += det * sy / 24.0
+            out[3] += det * sz / 24.0
+            d = det / 120.0
+            out[4] += d * (sx * sx + ax * ax + bx * bx + cx * cx)
+            out[5] += d * (sx * sy + ax * ay + bx * by + cx * cy)
+            out[6] += d * (sx * sz + ax * az + bx * bz + cx * cz)
+            out[8] += d * (sy * sy + ay * ay + by * by + cy * cy)
+            out[9] += d * (sy * sz + ay * az + by * bz + cy * cz)
+            out[12] += d * (sz * sz + az * az + bz * bz + cz * cz)
+            out[13] += area
+            w = area / 3.0
+            for q in range(3):
+                weights[3 * k + q] = w
+            mids[3 * k, 0] = 0.5 * (ax + bx) + c0[0]
+            mids[3 * k, 1] = 0.5 * (ay + by) + c0[1]
+            mids[3 * k, 2] = 0.5 * (az + bz) + c0[2]
+            mids[3 * k + 1, 0] = 0.5 * (bx + cx) + c0[0]
+            mids[3 * k + 1, 1] = 0.5 * (by + cy) + c0[1]
+            mids[3 * k + 1, 2] = 0.5 * (bz + cz) + c0[2]
+            mids[3 * k + 2, 0] = 0.5 * (cx + ax) + c0[0]
+            mids[3 * k + 2, 1] = 0.5 * (cy + ay) + c0[1]
+            mids[3 * k + 2, 2] = 0.5 * (cz + az) + c0[2]
+        out[7] = out[5]
+        out[10] = out[6]
+        out[11] = out[9]
+        return out, mids, weights
+
+    @numba.njit(cache=True, fastmath=False)
+    def shell(mids, w, c0):
+        out = np.zeros(13)
+        for k in range(mids.shape[0]):
+            x, y, z = mids[k, 0] - c0[0], mids[k, 1] - c0[1], mids[k, 2] - c0[2]
+            q = w[k]
+            out[0] += q
+            out[1] += q * x
+            out[2] += q * y
+            out[3] += q * z
+            out[4] += q * x * x
+            out[5] += q * x * y
+            out[6] += q * x * z
+            out[8] += q * y * y
+            out[9] += q * y * z
+            out[12] += q * z * z
+        out[7] = out[5]
+        out[10] = out[6]
+        out[11] = out[9]
+        return out
+
+    _KERNELS.append((level, shell))
+    return _KERNELS[0]
 
 
 def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None):

@@ -16,8 +16,9 @@ def test_overlapping_spheres_lens_volume():
     assert abs(r.volume - lens) <= r.volume_error
     assert r.volume == pytest.approx(lens, rel=1e-4)
     lo, hi = r.overlap_bounds
-    np.testing.assert_allclose(lo, [0.5, -np.sqrt(1 - 0.75 ** 2), -np.sqrt(1 - 0.75 ** 2)], atol=1e-5)
-    np.testing.assert_allclose(hi[0], 1.0, atol=1e-5)
+    # bounds of the mesh's vertices: within a small fraction of a cell of the lens's box
+    np.testing.assert_allclose(lo, [0.5, -np.sqrt(1 - 0.75 ** 2), -np.sqrt(1 - 0.75 ** 2)], atol=0.05 * r.voxel_size)
+    np.testing.assert_allclose(hi[0], 1.0, atol=0.05 * r.voxel_size)
 
 
 def test_box_minus_through_hole_and_pin():
