@@ -24,7 +24,8 @@ import numpy as np
 
 from .primitives import _Primitive
 from .solid import Solid, as_positive, as_vector, unit
-from .sweeps import as_polygon, extrude, polygon, rotation_to_axis
+from .profiles import as_polygon, polygon
+from .sweeps import extrude, rotation_to_axis
 
 __all__ = [
     "ConvexPolyhedron",

@@ -33,7 +33,7 @@ import json
 from typing import Any
 
 from .solid import Solid
-from . import primitives, csg, transforms, modifiers, polyhedra, sweeps, families  # noqa: F401  (register kinds)
+from . import primitives, csg, transforms, modifiers, polyhedra, profiles, sweeps, families  # noqa: F401  (register kinds)
 
 __all__ = ["to_dict", "to_json", "from_dict", "from_json", "MAX_DEPTH", "MAX_NODES", "MAX_CHARS", "FORMAT_KEYS"]
 
