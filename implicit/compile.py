@@ -138,6 +138,8 @@ OPS = {
     "sqrtmin": (22, "rrrr"),  # sqrt(min(a*a + b*b, c*c + d*d))
     "maxneg": (23, "rr"),    # max(a, -b)
     "store": (24, "r"),      # record a (the value of an operand, for pruning)
+    "cylinder": (25, "rrrk"),  # capped cylinder: local x, y, z; K[k] radius, K[k+1] half height
+    "box": (26, "rrrk"),     # box: offsets x, y, z; K[k..k+2] half sizes, K[k+3] rounding
 }
 _SKIP = 99
 _STORE = 24
@@ -346,24 +348,20 @@ def _sphere(node, gen, coords):
 
 @register_rule(Box)
 def _box(node, gen, coords):
+    # One fused operation; the same arithmetic, in the same order, as
+    # abs, subk, maxk, hyp3, max, mink, add, subk.
     d = _local(gen, coords, node._c)
-    h = gen.consts_of(node._h)
-    zero = gen.const(0.0)
-    q = [gen.op("subk", gen.op("abs", d[i]), h[i]) for i in range(3)]
-    m = [gen.op("maxk", q[i], zero) for i in range(3)]
-    outside = gen.op("hyp3", *m)
-    inside = gen.op("mink", gen.op("max", q[0], gen.op("max", q[1], q[2])), zero)
-    return gen.op("subk", gen.op("add", outside, inside), gen.const(node._rr))
+    k = gen.consts_of(np.append(node._h, node._rr))[0]
+    return gen.op("box", *d, k)
 
 
 @register_rule(Cylinder)
 def _cylinder(node, gen, coords):
+    # One fused operation: hyp2, subk, abs, subk, maxk, maxk, hyp2, max, mink, add.
     lx, ly, lz = _local(gen, coords, node._c, node._frame)
-    zero = gen.const(0.0)
-    dr = gen.op("subk", gen.op("hyp2", lx, ly), gen.const(node._r))
-    dz = gen.op("subk", gen.op("abs", lz), gen.const(node._hh))
-    outside = gen.op("hyp2", gen.op("maxk", dr, zero), gen.op("maxk", dz, zero))
-    return gen.op("add", outside, gen.op("mink", gen.op("max", dr, dz), zero))
+    k = gen.const(node._r)
+    gen.const(node._hh)  # k + 1
+    return gen.op("cylinder", lx, ly, lz, k)
 
 
 @register_rule(Cone)
@@ -698,6 +696,26 @@ def _build_kernels(numba):
             elif op == 24:
                 for j in range(n):
                     rec[b, s + j] = R[a, j]
+            elif op == 25:
+                hh = K[code[pc, 6] + 1]
+                for j in range(n):
+                    dr = math.sqrt(R[a, j] * R[a, j] + R[b, j] * R[b, j]) - k
+                    dz = abs(R[e, j]) - hh
+                    mr = max(dr, 0.0)
+                    mz = max(dz, 0.0)
+                    R[d, j] = math.sqrt(mr * mr + mz * mz) + min(max(dr, dz), 0.0)
+            elif op == 26:
+                k1 = K[code[pc, 6] + 1]
+                k2 = K[code[pc, 6] + 2]
+                k3 = K[code[pc, 6] + 3]
+                for j in range(n):
+                    qx = abs(R[a, j]) - k
+                    qy = abs(R[b, j]) - k1
+                    qz = abs(R[e, j]) - k2
+                    mx = max(qx, 0.0)
+                    my = max(qy, 0.0)
+                    mz = max(qz, 0.0)
+                    R[d, j] = (math.sqrt(mx * mx + my * my + mz * mz) + min(max(qx, max(qy, qz)), 0.0)) - k3
             pc += 1
 
     def make_run(parallel):

@@ -194,7 +194,10 @@ def test_axis_aligned_cylinder_needs_no_products():
     tape = fast.Tape(cylinder(1.0, 2.0))
     names = {code: name for name, (code, _) in fast.OPS.items()}
     used = [names[int(op)] for op in tape.code[:, 0]]
-    assert "mulk" not in used and "madk" not in used and "subk" in used
+    assert used == ["neg", "cylinder"]  # the frame of axis z holds -x as a row
+    tilted = fast.Tape(cylinder(1.0, 2.0, center=(0.0, 0.0, 1.0), axis=(0.0, 1.0, 1.0)))
+    used = [names[int(op)] for op in tilted.code[:, 0]]
+    assert used == ["subk", "mulk", "madk", "neg", "mulk", "madk", "cylinder"]
 
 
 def test_shapes_and_empty_input():
