@@ -371,18 +371,24 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
     ny = -(-(hi[1] - y0) // block) * block + 1
     nz = -(-(hi[2] - z0) // block) * block + 1
     local = sc * c - np.array([x0, y0, z0])
-    # the voxels inside the cells (marching-cubes mask) and the nodes of those voxels
+    # the cells of the slab (dense), and the nodes of those cells: a node is needed when a
+    # cell holds it, a separable dilation (each axis: repeat c times, OR with a shift by one)
     cellmask = np.zeros((block // c, (ny - 1) // c, (nz - 1) // c), dtype=bool)
     cellmask[local[:, 0] // c, local[:, 1] // c, local[:, 2] // c] = True
-    vox = cellmask
-    if c > 1:
-        vox = np.broadcast_to(cellmask[:, None, :, None, :, None], cellmask.shape[:1] + (c,) + cellmask.shape[1:2]
-                              + (c,) + cellmask.shape[2:] + (c,)).reshape(block, ny - 1, nz - 1)
-    need = np.zeros((block + 1, ny, nz), dtype=bool)
-    for i in (0, 1):
-        for j in (0, 1):
-            for k in (0, 1):
-                need[i:i + block, j:j + ny - 1, k:k + nz - 1] |= vox
+    need = cellmask
+    for ax in range(3):
+        rep = np.repeat(need, c, axis=ax) if c > 1 else need
+        shape = list(rep.shape)
+        shape[ax] += 1
+        grown = np.zeros(shape, dtype=bool)
+        lo_sl = [slice(None)] * 3
+        hi_sl = [slice(None)] * 3
+        lo_sl[ax] = slice(0, -1)
+        hi_sl[ax] = slice(1, None)
+        grown[tuple(lo_sl)] = rep
+        grown[tuple(hi_sl)] |= rep
+        need = grown
+    del rep, grown
     values = np.full((block + 1, ny, nz), np.float32(1.0), dtype=np.float32)
     known = np.zeros((ny, nz), dtype=bool)
     if handoff is not None and handoff[0] == slab - 1:
@@ -410,16 +416,29 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
     handoff = (slab, y0, z0, values[block].copy(), need[block].copy())  # every needed upper node was evaluated here
     # -- blocks -------------------------------------------------------------------------
     bkeys = np.unique((local[:, 1] // block) * (nz // block + 1) + local[:, 2] // block)
-    shape = (block + 1,) * 3
+    per = block // c
     for key in bkeys:
         by, bz = divmod(int(key), nz // block + 1)
-        ys, zs = by * block, bz * block
-        vol = np.ascontiguousarray(values[:, ys:ys + block + 1, zs:zs + block + 1])
-        mask = np.zeros(shape, dtype=bool)
-        mask[1:, 1:, 1:] = vox[:, ys:ys + block, zs:zs + block]
+        cb = cellmask[:, by * per:(by + 1) * per, bz * per:(bz + 1) * per]
+        # crop the block to the box of its cells (less volume for marching cubes to scan)
+        box_lo, box_hi = [], []
+        for ax in range(3):
+            hit = np.flatnonzero(cb.any(axis=tuple(a for a in range(3) if a != ax)))
+            box_lo.append(int(hit[0]))
+            box_hi.append(int(hit[-1]) + 1)
+        cb = cb[box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
+        if c > 1:
+            cb = np.repeat(np.repeat(np.repeat(cb, c, 0), c, 1), c, 2)
+        xs = box_lo[0] * c
+        ys = by * block + box_lo[1] * c
+        zs = bz * block + box_lo[2] * c
+        vol = np.ascontiguousarray(values[xs:xs + cb.shape[0] + 1, ys:ys + cb.shape[1] + 1,
+                                          zs:zs + cb.shape[2] + 1])
+        mask = np.zeros(vol.shape, dtype=bool)
+        mask[1:, 1:, 1:] = cb
         node, axis, f0, f1, faces = mesh_block(vol, mask)
         if faces.shape[0]:
-            gx = node[:, 0] + x0
+            gx = node[:, 0] + (xs + x0)
             gy = node[:, 1] + (ys + y0)
             gz = node[:, 2] + (zs + z0)
             edges = ((gx * stride + gy) * stride + gz) * 3 + axis
