@@ -249,3 +249,20 @@ def test_curve_to_polydata_lifts_planar_curves():
     np.testing.assert_allclose(np.linalg.norm(poly.points, axis=1), 2.0, atol=1e-12)
     with pytest.raises(ValueError, match="n"):
         curve_to_polydata(nurbs_circle(1.0), 1)
+
+
+def test_fitted_star_surface_bounds_a_solid_through_surface_solid():
+    from implicit import surface_solid
+    from scipy.spatial import cKDTree
+
+    fit = fit_star_surface(ellipsoid(ELLIPSOID), n_control=(24, 12), samples=(48, 25))
+    solid = surface_solid(fit.surface)
+    q = np.random.default_rng(11).uniform(-2.2, 2.2, (3000, 3))
+    f = solid(q)
+    truth = ellipsoid(ELLIPSOID)(q)
+    far = np.abs(truth) > 0.05
+    assert np.all(np.sign(f[far]) == np.sign(truth[far]))
+    dense = fit.surface.grid(np.linspace(0, 1, 400), np.linspace(0, 1, 200)).reshape(-1, 3)
+    upper, _ = cKDTree(dense).query(q)          # >= distance to the fitted surface
+    assert np.all(np.abs(f) <= upper + 1e-9)
+    assert np.max(upper - np.abs(f)) < 0.02
