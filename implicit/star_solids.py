@@ -198,7 +198,7 @@ def star_solid(radial, center=(0.0, 0.0, 0.0)) -> Solid:
     >>> ball = star_solid(R)
     >>> round(ball.volume() / (4 / 3 * np.pi * 8), 9)
     1.0
-    >>> float(ball([[0.0, 0.0, 2.0]])[0])
-    0.0
+    >>> np.round(ball([[0.0, 0.0, 3.0], [1.0, 0.0, 0.0]]), 12)
+    array([ 1., -1.])
     """
     return StarSolid(radial, center)
