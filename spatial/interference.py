@@ -202,8 +202,6 @@ def interference(a, b, *, resolution: int | None = None, voxel_size: float | Non
     >>> r.interferes, round(r.clearance, 6)
     (False, 1.0)
     """
-    import warnings
-
     from .mass import _default_mesher, mass_properties
 
     a = _check_solid(a, "a")
@@ -216,10 +214,8 @@ def interference(a, b, *, resolution: int | None = None, voxel_size: float | Non
     volume = err = 0.0
     overlap = None
     if np.all(lo < hi):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            m = mesher(both, h)
-        if m.n_cells:
+        m = _overlap_mesh(both, h, mesher)
+        if m is not None and m.n_cells:
             from .mass import _faces_array, mesh_moments
 
             pts, tri = _faces_array(m)
@@ -241,6 +237,33 @@ def interference(a, b, *, resolution: int | None = None, voxel_size: float | Non
     touching = upper <= tol
     return Interference(False, bool(touching), float(max(volume, 0.0)), float(err), overlap if touching else None,
                         0.0 if touching else upper, upper - lower, pts, float(h))
+
+
+def _overlap_mesh(both, h, mesher):
+    """Boundary mesh of ``a & b``, or None when no sample of the cells that
+    may hold its boundary is inside (a mesher may refuse a solid whose
+    samples never change sign)."""
+    import warnings
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return mesher(both, h)
+    except ValueError:
+        from implicit.solid import box_corners
+
+        from .octree import BOUNDARY, FULL, Octree
+
+        tree = Octree.from_solid(both, voxel_size=h, progress=False)
+        if np.any(tree.state == FULL):
+            raise
+        cells = tree.state == BOUNDARY
+        lo = tree.lo[cells]
+        hi = lo + tree.size[cells, None]
+        probe = np.concatenate([box_corners(lo, hi).reshape(-1, 3), 0.5 * (lo + hi)])
+        if probe.shape[0] and float(both(probe).min()) <= 0.0:
+            raise
+        return None
 
 
 def box_pairs(lo, hi, *, margin: float = 0.0) -> np.ndarray:
