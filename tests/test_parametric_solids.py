@@ -348,3 +348,42 @@ def test_meshed_volumes_of_revolve_and_extrude_match_closed_forms():
     assert mass_properties(surface).volume == pytest.approx(v_tube, rel=5e-3)
     assert mass_properties(tube, resolution=48).volume == pytest.approx(v_tube, rel=1e-3)
     assert mass_properties(rod, resolution=48).volume == pytest.approx(v_rod, rel=1e-3)
+
+
+def test_closed_path_frames_close_without_a_jump():
+    # a closed, non-planar periodic path: the transported frame must be corrected to close
+    t = 2 * np.pi * np.arange(12) / 12
+    ctrl = np.stack([2 * np.cos(t), 2 * np.sin(t), 0.6 * np.sin(2 * t)], 1)
+    path = BSpline.periodic(ctrl, 3)
+    ring = sweep(rectangle((0.4, 0.2)), path)
+    r0, b0, t0 = ring.frames(np.array([0.0]))
+    r1, b1, t1 = ring.frames(np.array([1.0]))
+    np.testing.assert_allclose(np.concatenate([r0, b0, t0]), np.concatenate([r1, b1, t1]), atol=1e-9)
+    # the field is continuous across the seam
+    c = path(0.0)
+    q = c + np.array([[0.05, 0.0, 0.02]])
+    assert ring.exact is False
+    np.testing.assert_allclose(ring(q + [[0.0, 1e-7, 0.0]]), ring(q - [[0.0, 1e-7, 0.0]]), atol=1e-6)
+
+
+def test_rectangle_swept_along_a_gentle_spatial_curve_is_conservative():
+    from scipy.spatial import cKDTree
+
+    path = Bezier([[0.0, 0.0, 0.0], [1.0, 0.5, 1.0], [2.0, -0.5, 2.0], [3.0, 0.0, 3.0]])
+    bar = sweep(rectangle((0.3, 0.2)), path)
+    u = np.linspace(0.0, 1.0, 600)
+    r, b, _ = bar.frames(u)
+    s = np.linspace(-1.0, 1.0, 41)
+    ones = np.ones_like(s)
+    rim = np.concatenate([np.stack([0.15 * s, 0.1 * ones], 1), np.stack([0.15 * s, -0.1 * ones], 1),
+                          np.stack([0.15 * ones, 0.1 * s], 1), np.stack([-0.15 * ones, 0.1 * s], 1)])
+    side = path(u)[:, None] + rim[None, :, :1] * r[:, None] + rim[None, :, 1:] * b[:, None]
+    X, Y = np.meshgrid(0.15 * s, 0.1 * s, indexing="ij")
+    caps = [path(k)[None] + X.reshape(-1, 1) * r[i] + Y.reshape(-1, 1) * b[i] for i, k in ((0, 0.0), (-1, 1.0))]
+    tree = cKDTree(np.concatenate([side.reshape(-1, 3)] + caps))
+    lo, hi = bar.bounds
+    q = RNG.uniform(lo, hi, (3000, 3))
+    upper, _ = tree.query(q)
+    f = bar(q)
+    assert np.all(np.abs(f) <= upper + SAMPLED_TOL)
+    assert np.max((upper - np.abs(f))[f > 0]) < 0.05
