@@ -387,3 +387,13 @@ def test_rectangle_swept_along_a_gentle_spatial_curve_is_conservative():
     f = bar(q)
     assert np.all(np.abs(f) <= upper + SAMPLED_TOL)
     assert np.max((upper - np.abs(f))[f > 0]) < 0.05
+
+
+def test_trilinear_bezier_volume_is_the_exact_box():
+    from parametric.volumes import BezierVolume
+
+    g = np.stack(np.meshgrid(*[np.array([0.0, 1.0])] * 3, indexing="ij"), -1)
+    brick = volume_solid(BezierVolume(g * [2.0, 1.0, 0.5] + [-1.0, 0.0, 0.0]))
+    q = RNG.uniform(-2.0, 2.0, (1500, 3))
+    exact = _rect_sdf(q, np.array([0.0, 0.5, 0.25]), np.array([1.0, 0.5, 0.25]))
+    np.testing.assert_allclose(brick(q), exact, atol=EXACT_TOL)
