@@ -722,7 +722,9 @@ def _build_kernels(numba):
         loop = numba.prange if parallel else range
 
         @njit(fastmath=False, cache=False, nogil=True, parallel=parallel)
-        def run(code, K, nreg, result, pts, order, starts, flags, out, block, nthreads, rec):
+        def run(code, K, nreg, result, pts, starts, flags, out, block, nthreads, rec):
+            # Bin c holds points starts[c]:starts[c + 1]; its flags row says
+            # which operands run.  Threads take contiguous runs of bins.
             nbins = starts.shape[0] - 1
             per = (nbins + nthreads - 1) // nthreads
             for t in loop(nthreads):
@@ -735,12 +737,8 @@ def _build_kernels(numba):
                             R[1, j] = pts[s + j, 1]
                             R[2, j] = pts[s + j, 2]
                         run_block(code, K, R, n, flags, c, rec, s)
-                        if order.shape[0] > 0:
-                            for j in range(n):
-                                out[order[s + j]] = R[result, j]
-                        else:
-                            for j in range(n):
-                                out[s + j] = R[result, j]
+                        for j in range(n):
+                            out[s + j] = R[result, j]
         return run
 
     @njit(cache=False, nogil=True)
@@ -848,8 +846,8 @@ def _kernel(name: str):
             else:
                 kernel = make_run(name == "parallel")
                 tape = Tape(Difference(Sphere(1.0), Cone(1.0, 1.0), Union(Box(), Torus(1.0, 0.5))))
-                _call(kernel, tape, np.zeros((4, 3)), None, None, None, 1)
-                _call(kernel, tape, np.zeros((4, 3)), None, None, None, 1, record=True)
+                _call(kernel, tape, np.zeros((4, 3)))
+                _call(kernel, tape, np.zeros((4, 3)), record=True)
             COMPILE_SECONDS[name] = time.perf_counter() - start
             _KERNELS[name] = kernel
     return _KERNELS[name]
@@ -891,25 +889,29 @@ class _Workspace:
 BLOCK = 256
 
 
-def _call(kernel, tape: Tape, flat, order, starts, flags, nthreads, *, record=False, out=None):
+def _call(kernel, tape: Tape, flat, starts=None, flags=None, nthreads=1, *, record=False, out=None):
+    """Run `tape` on the contiguous points `flat` (n, 3).
+
+    Without `starts` the points are cut into equal bins with every flag set.
+    Returns the values (n,), or with `record` the stored operand values
+    ``(tape.nstore, n)`` of the recording tape.
+    """
     n = flat.shape[0]
     if starts is None:
         nb = max(1, min(nthreads * 64, -(-n // BLOCK)))
         starts = np.linspace(0, n, nb + 1).astype(np.int64)
-        order = np.empty(0, np.int32)
         flags = np.ones((nb, max(1, len(tape.flags))), dtype=np.bool_)
     if out is None:
         out = np.empty(n)
     if record:
         rec = np.empty((tape.nstore, n))
-        kernel(tape.record, tape.consts, tape.nreg, tape.result, flat, order, starts, flags, out, BLOCK, nthreads, rec)
+        kernel(tape.record, tape.consts, tape.nreg, tape.result, flat, starts, flags, out, BLOCK, nthreads, rec)
         return rec
-    kernel(tape.code, tape.consts, tape.nreg, tape.result, flat, order, starts, flags, out, BLOCK, nthreads, _NO_RECORD)
+    kernel(tape.code, tape.consts, tape.nreg, tape.result, flat, starts, flags, out, BLOCK, nthreads, _NO_RECORD)
     return out
 
 
 _NO_RECORD = np.empty((0, 0))
-_NO_ORDER = np.empty(0, np.int32)
 
 
 # ---------------------------------------------------------------------------
@@ -932,7 +934,7 @@ def _flags(tape: "Tape", lo: np.ndarray, hi: np.ndarray, kernel) -> np.ndarray:
     radius = 0.5 * np.sqrt(np.einsum("ij,ij->i", hi - lo, hi - lo))
     # A little slack for rounding in the values compared.
     radius = radius * (1.0 + 1e-12) + 1e-12
-    values = _call(kernel, tape, np.ascontiguousarray(centre), None, None, None, 1, record=True)
+    values = _call(kernel, tape, np.ascontiguousarray(centre), record=True)
     for node, frame, slots, entries in tape.groups:
         if frame is None or len(slots) != len(node.children):
             continue
@@ -1061,12 +1063,12 @@ class CompiledSolid:
         else:
             grid = None
         if grid is None:
-            return _call(kernel, self.tape, flat, None, None, None, self.nthreads)
+            return _call(kernel, self.tape, flat, nthreads=self.nthreads)
         g, scale = grid
         with _Workspace(n) as (cell, order, sorted_pts, values):
             starts, box_lo, box_hi = _kernel("bin")(flat, lo, scale, g, cell, order, sorted_pts)
             active = _flags(self.tape, box_lo, box_hi, kernel)
-            _call(kernel, self.tape, sorted_pts, _NO_ORDER, starts, active, self.nthreads, out=values)
+            _call(kernel, self.tape, sorted_pts, starts, active, self.nthreads, out=values)
             out = np.empty(n)
             _kernel("unsort")(values, order, out)
             return out
