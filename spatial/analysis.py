@@ -273,7 +273,7 @@ def check(obj, *, resolution: int = 64, mesher=None) -> ValidityReport:
     resolution : int
         Cells across a solid's bounds for its boundary mesh.
     mesher : callable, optional
-        ``mesher(solid, h) -> PolyData``; default `spatial.mesh`.
+        ``mesher(solid, h) -> PolyData``; default `spatial.boundary.mesh`.
 
     Returns
     -------

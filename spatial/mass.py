@@ -529,7 +529,7 @@ def _default_mesher():
     from .boundary import mesh
 
     def mesher(solid, h):
-        return mesh(solid, voxel_size=h, progress=False)
+        return mesh(solid, voxel_size=h, progress=None)
     return mesher
 
 
@@ -791,7 +791,8 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
         Octrees only: the field whose distances weigh the BOUNDARY cells
         (default the octree's own ``solid`` attribute when it has one).
     mesher : callable, optional
-        ``mesher(solid, h) -> PolyData``; default `spatial.mesh`.
+        ``mesher(solid, h) -> PolyData``; default `spatial.boundary.mesh`
+        (a progress bar on a terminal).
 
     Returns
     -------
