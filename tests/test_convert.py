@@ -163,7 +163,7 @@ def test_star_surface_closes_at_the_seam_and_poles_and_faces_outward():
 def test_round_trip_solid_grid_surface_solid_keeps_the_volume():
     a, b, c = ELLIPSOID
     exact = 4.0 / 3.0 * np.pi * a * b * c
-    grid = _grid(ellipsoid(ELLIPSOID), 128)
+    grid = OccupancyGrid.from_solid(ellipsoid(ELLIPSOID), resolution=128, progress=False)
     fit = fit_star_surface(grid, n_control=(24, 12))
     assert abs(fit.solid.volume() / exact - 1.0) < ROUND_TRIP_TOL
     # the rebuilt solid agrees in sign with the original away from the boundary
@@ -177,7 +177,7 @@ def test_round_trip_of_a_smooth_blob_through_its_grid():
     R, dev = fit_radial_function(_blob_radii((96, 49)), n_control=(32, 16))
     blob = star_solid(R, center=(0.2, -0.1, 0.3))
     assert dev < 1e-3
-    grid = _grid(blob, 128)
+    grid = OccupancyGrid.from_solid(blob, resolution=128, progress=False)
     again = fit_star_surface(grid, center=(0.2, -0.1, 0.3), n_control=(32, 16), samples=(96, 49))
     assert abs(again.solid.volume() / blob.volume() - 1.0) < ROUND_TRIP_TOL
 
