@@ -196,44 +196,56 @@ def mesh_block(values, mask):
 def merge_blocks(parts):
     """Merge per-block results into one indexed mesh keyed by global edge id.
 
+    Only vertices on an edge lying in a block-grid plane can belong to two
+    blocks; they are merged by their integer edge id (no floating-point
+    comparison), the others are taken as they are.
+
     Parameters
     ----------
-    parts : list of (edges, f0, f1, faces[, nodes])
-        Per block: global edge ids ``3 * node + axis`` of its vertices, the
-        samples at the edges' ends, its triangles (local vertex indices) and
-        optionally anything else per vertex (taken at the first occurrence).
+    parts : list of (edges, shared, data, faces)
+        Per block: global edge ids ``3 * node + axis`` of its vertices that
+        may be shared with another block, the boolean mask of those vertices,
+        a tuple of per-vertex arrays (merged likewise) and the triangles
+        (local vertex indices).
 
     Returns
     -------
-    edges : (v,) int64
-        Sorted unique edge ids, one vertex each.
-    f0, f1 : (v,) float32
-        Samples at each edge's lower and upper node.
+    data : tuple of arrays
+        The per-vertex arrays of the merged vertices (non-shared first).
     faces : (f, 3) int32 (int64 beyond 2**31 vertices)
-        Triangles indexing `edges`.
-    extra : list
-        The optional per-vertex arrays, merged likewise.
+        Triangles indexing the merged vertices.
     """
     parts = [p for p in parts if p[3].shape[0]]
     if not parts:
-        return (np.empty(0, np.int64), np.empty(0, np.float32), np.empty(0, np.float32),
-                np.empty((0, 3), np.int32), [])
-    all_edges = np.concatenate([p[0] for p in parts])
-    uniq, first, inverse = np.unique(all_edges, return_index=True, return_inverse=True)
-    del all_edges
-    inverse = inverse.astype(np.int32 if uniq.shape[0] < 2 ** 31 else np.int64)
-    f0 = np.concatenate([p[1] for p in parts])[first]
-    f1 = np.concatenate([p[2] for p in parts])[first]
-    extra = [np.concatenate([p[i] for p in parts])[first] for i in range(4, len(parts[0]))]
-    del first
-    faces = np.empty((sum(p[3].shape[0] for p in parts), 3), dtype=inverse.dtype)
-    row = vert = 0
+        return None, np.empty((0, 3), np.int32)
+    shared_edges = np.concatenate([p[0] for p in parts])
+    uniq, first, inverse = np.unique(shared_edges, return_index=True, return_inverse=True)
+    del shared_edges
+    n_private = sum(int(p[1].shape[0] - np.count_nonzero(p[1])) for p in parts)
+    n_total = n_private + uniq.shape[0]
+    itype = np.int32 if n_total < 2 ** 31 else np.int64
+    n_data = len(parts[0][2])
+    data = []
+    for i in range(n_data):
+        private = np.concatenate([p[2][i][~p[1]] for p in parts])
+        shared = np.concatenate([p[2][i][p[1]] for p in parts])[first]
+        data.append(np.concatenate([private, shared]))
+        del private, shared
+    faces = np.empty((sum(p[3].shape[0] for p in parts), 3), dtype=itype)
+    row = private_at = shared_at = 0
     for p in parts:
+        sh = p[1]
+        k_sh = int(np.count_nonzero(sh))
+        k_pr = sh.shape[0] - k_sh
+        index = np.empty(sh.shape[0], dtype=itype)
+        index[~sh] = np.arange(private_at, private_at + k_pr, dtype=itype)
+        index[sh] = n_private + inverse[shared_at:shared_at + k_sh]
         k = p[3].shape[0]
-        faces[row:row + k] = inverse[p[3] + vert]
+        faces[row:row + k] = index[p[3]]
         row += k
-        vert += p[0].shape[0]
-    return uniq, f0, f1, faces, extra
+        private_at += k_pr
+        shared_at += k_sh
+    return tuple(data), faces
 
 
 # ---------------------------------------------------------------------------
@@ -327,7 +339,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             bar.update()
     finally:
         bar.close()
-    edges, f0, f1, faces, (nodes,) = merge_blocks(parts)
+    data, faces = merge_blocks(parts)
     del parts
     if faces.shape[0] == 0:
         warnings.warn("mesh: no surface crosses the sampled nodes (features thinner than the voxel size?); "
@@ -335,17 +347,19 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         return empty_mesh(h, evaluations)
 
     # -- vertex positions: on their edge, interpolated then refined ------------------------
-    axis = edges % 3
-    del edges
-    p0 = origin + nodes * h
+    nodes, axis, f0, f1 = data
+    del data
+    p0 = nodes.astype(np.float64)
     del nodes
-    f0 = f0.astype(np.float64)
-    f1 = f1.astype(np.float64)
-    t = f0 / (f0 - f1)
+    p0 *= h
+    p0 += origin
+    t = f0 / (f0.astype(np.float64) - f1)
     if refine:
         t, spent = _refine_on_edges(solid, p0, axis, h, t, f0, f1)
         evaluations += spent
+    del f0, f1
     p0[np.arange(p0.shape[0]), axis] += t * h
+    del t, axis
     out = pv.PolyData.from_regular_faces(p0, faces)
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
@@ -438,11 +452,11 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
         mask[1:, 1:, 1:] = cb
         node, axis, f0, f1, faces = mesh_block(vol, mask)
         if faces.shape[0]:
-            gx = node[:, 0] + (xs + x0)
-            gy = node[:, 1] + (ys + y0)
-            gz = node[:, 2] + (zs + z0)
-            edges = ((gx * stride + gy) * stride + gz) * 3 + axis
-            parts.append((edges, f0, f1, faces, np.stack([gx, gy, gz], axis=1).astype(np.int32)))
+            node += (xs + x0, ys + y0, zs + z0)
+            edges = ((node[:, 0] * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
+            on_plane = (node % block == 0) & (axis[:, None] != np.arange(3))
+            shared = on_plane.any(axis=1)
+            parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1), faces))
     return int(bkeys.shape[0]), spent, handoff
 
 
@@ -472,8 +486,8 @@ def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol, accept):
     t = t.copy()
     a = np.zeros(n)
     b = np.ones(n)
-    fa = fa.copy()
-    fb = fb.copy()
+    fa = fa.astype(np.float64)
+    fb = fb.astype(np.float64)
     side = np.zeros(n, dtype=np.int8)
     active = np.arange(n)
     spent = 0
