@@ -20,6 +20,9 @@ from .csg import (
 from .transforms import translate, rotate, scale, mirror, affine, rotation_matrix
 from .modifiers import offset, shell
 from .sweeps import Profile, circle, rectangle, polygon, extrude, revolve
+from .families import families, instance
+from .serialize import to_json, from_json
+from .models import load_model, load_assembly
 from .parametric_solids import (
     curve_profile, revolve_curve, extrude_curve, sweep, thicken, surface_solid, volume_solid,
 )
@@ -30,6 +33,7 @@ __all__ = [
     "halfspace", "sphere", "box", "rounded_box", "cylinder", "cone", "frustum", "torus",
     "ellipsoid", "capsule", "convex_polyhedron", "pyramid", "wedge", "prism",
     "Profile", "circle", "rectangle", "polygon", "extrude", "revolve",
+    "families", "instance", "to_json", "from_json", "load_model", "load_assembly",
     "union", "intersection", "difference", "complement",
     "smooth_union", "smooth_intersection", "smooth_difference",
     "translate", "rotate", "scale", "mirror", "affine", "rotation_matrix",
