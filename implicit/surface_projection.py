@@ -201,6 +201,23 @@ class SurfaceProjector:
         self.points = np.ascontiguousarray(grid[keep_u][:, keep_v].reshape(-1, 3))
         self.tree = cKDTree(self.points)
 
+    def _edge_steps(self, ua, va, du, dv, cu, cv, f, g, a11, a12, a22):
+        """Steps of the points whose Newton step leaves the domain: the crossing
+        parameter stops on its edge and the other takes the quadratic model's
+        best step with it fixed; when both cross, the better of the two."""
+        au, bu, av, bv = self.dom
+        tu = self._clip_step(ua, du, au, bu, self.closed_u)
+        tv = self._clip_step(va, dv, av, bv, self.closed_v)
+        a11p, a22p = np.maximum(a11, 1e-300), np.maximum(a22, 1e-300)
+        a_u, a_v = tu, self._clip_step(va, -(g + a12 * tu) / a22p, av, bv, self.closed_v)
+        b_v, b_u = tv, self._clip_step(ua, -(f + a12 * tv) / a11p, au, bu, self.closed_u)
+
+        def model(x, y):
+            return f * x + g * y + 0.5 * (a11 * x * x + 2 * a12 * x * y + a22 * y * y)
+
+        take_a = cu & (~cv | (model(a_u, a_v) <= model(b_u, b_v)))
+        return np.where(take_a, a_u, b_u), np.where(take_a, a_v, b_v)
+
     @staticmethod
     def _clip_step(x, dx, a, b, closed):
         return dx if closed else np.clip(x + dx, a, b) - x
@@ -246,29 +263,12 @@ class SurfaceProjector:
             # projected Newton: a step that would cross a domain edge stops on
             # it, and the other parameter takes the quadratic model's best step
             # with the first one fixed
-            if not self.closed_u:
-                tu = np.clip(ua + du, au, bu) - ua
-                cu = tu != du
-            else:
-                tu, cu = du, np.zeros(du.shape, bool)
-            if not self.closed_v:
-                tv = np.clip(va + dv, av, bv) - va
-                cv = tv != dv
-            else:
-                tv, cv = dv, np.zeros(dv.shape, bool)
-            if np.any(cu | cv):
-                a11p, a22p = np.maximum(a11, 1e-300), np.maximum(a22, 1e-300)
-                # candidate A holds u on its edge, candidate B holds v
-                au_, av_ = tu, self._clip_step(va, -(g + a12 * tu) / a22p, av, bv, self.closed_v)
-                bv_, bu_ = tv, self._clip_step(ua, -(f + a12 * tv) / a11p, au, bu, self.closed_u)
-
-                def model(x, y):
-                    return f * x + g * y + 0.5 * (a11 * x * x + 2 * a12 * x * y + a22 * y * y)
-
-                take_a = (cu & ~cv) | (cu & cv & (model(au_, av_) <= model(bu_, bv_)))
-                take_b = (cv & ~cu) | (cu & cv & ~take_a)
-                du = np.where(take_a, au_, np.where(take_b, bu_, du))
-                dv = np.where(take_a, av_, np.where(take_b, bv_, dv))
+            cu = np.zeros(du.shape, bool) if self.closed_u else (ua + du < au) | (ua + du > bu)
+            cv = np.zeros(dv.shape, bool) if self.closed_v else (va + dv < av) | (va + dv > bv)
+            k = np.flatnonzero(cu | cv)
+            if k.size:
+                du[k], dv[k] = self._edge_steps(ua[k], va[k], du[k], dv[k], cu[k], cv[k],
+                                                f[k], g[k], a11[k], a12[k], a22[k])
             du = np.clip(du, -0.25 * (bu - au), 0.25 * (bu - au))
             dv = np.clip(dv, -0.25 * (bv - av), 0.25 * (bv - av))
             nu_, nv_ = self._move(ua + du, va + dv)
