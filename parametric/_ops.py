@@ -428,3 +428,78 @@ def elevate_by_decomposition(U, p, P, t, tol=None):
             if done != want:
                 raise ArithmeticError(f"knot {v} removal stopped after {done} of {want}")
     return Un, ctrl
+
+
+# --------------------------------------------------------------------------- rational derivative
+
+def bezier_product(F, G):
+    """Bernstein coefficients of the product of two Bezier polynomials.
+
+    ``F`` is ``(S, m + 1, ...)`` and ``G`` is ``(S, n + 1, ...)`` (``S`` pieces,
+    trailing shapes broadcast); the product has degree ``m + n``:
+    ``H_k = sum_{i + j = k} C(m, i) C(n, j) / C(m + n, k) F_i G_j``.
+    """
+    from scipy.special import comb
+
+    m, n = F.shape[1] - 1, G.shape[1] - 1
+    shape = np.broadcast_shapes(F.shape[2:], G.shape[2:])
+    H = np.zeros((F.shape[0], m + n + 1) + shape)
+    for i in range(m + 1):
+        for j in range(n + 1):
+            H[:, i + j] += (comb(m, i) * comb(n, j) / comb(m + n, i + j)) * F[:, i] * G[:, j]
+    return H
+
+
+def rational_derivative(U, p, Pw, tol):
+    """Exact derivative of a rational curve as homogeneous control of degree ``2 p``.
+
+    On each Bezier piece of ``C = A / w`` (``Pw = (A, w)``), ``C' = (A' w - A w') / w^2``:
+    the numerator (degree ``2 p - 1``, elevated once) and ``w^2`` (degree ``2 p``)
+    are built with Bezier products, so ``(A' w - A w', w^2)`` are the homogeneous
+    control points of the derivative. Pieces meet with multiplicity ``2 p``; a
+    knot of multiplicity ``m < p`` is then removed ``p - m - 1`` times (exact:
+    the derivative is ``C^(p-m-1)`` there), leaving multiplicity ``p + m + 1``.
+
+    Raises
+    ------
+    ValueError
+        If the derivative jumps at a knot of multiplicity ``p`` (it is then no
+        single curve).
+
+    Returns
+    -------
+    (U', Qw) with ``Qw`` of shape ``(n', dim + 1)``.
+    """
+    segs = bezier_segments(U, p, Pw)
+    a = np.array([s[0] for s in segs])
+    b = np.array([s[1] for s in segs])
+    Q = np.stack([s[2] for s in segs])                    # (S, p + 1, D + 1)
+    A, w = Q[..., :-1], Q[..., -1]
+    scale = (p / (b - a))[:, None, None]
+    dA = scale * np.diff(A, axis=1)                        # (S, p, D)
+    dw = scale[..., 0] * np.diff(w, axis=1)                # (S, p)
+    num = bezier_product(dA, w[..., None]) - bezier_product(A, dw[..., None])
+    num = bezier_elevate(np.moveaxis(num, 1, 0), 1)        # (2p + 1, S, D)
+    num = np.moveaxis(num, 0, 1)
+    den = bezier_product(w, w)                             # (S, 2p + 1)
+    H = np.concatenate([num, den[..., None]], axis=-1)     # (S, 2p + 1, D + 1)
+    q = 2 * p
+    # joints: the end of piece s must meet the start of piece s + 1
+    ends = H[:-1, -1, :-1] / H[:-1, -1, -1:]
+    starts = H[1:, 0, :-1] / H[1:, 0, -1:]
+    size = max(1.0, float(np.max(np.abs(H[..., :-1] / H[..., -1:]))))
+    jump = np.linalg.norm(ends - starts, axis=-1) if len(segs) > 1 else np.zeros(0)
+    vals, counts = distinct_interior(clamp(U, p, Pw)[0], p)
+    bad = jump > tol * size
+    if np.any(bad):
+        k = int(np.nonzero(bad)[0][0])
+        raise ValueError(f"the derivative jumps at knot u={b[k]} (multiplicity {p}, "
+                         f"jump {jump[k]:.3g}); it is not one curve")
+    ctrl = np.concatenate([H[0]] + [H[s, 1:] for s in range(1, len(segs))])
+    Un = np.concatenate([np.full(q + 1, a[0]), np.repeat(b[:-1], q), np.full(q + 1, b[-1])])
+    rtol = tol * max(1.0, float(np.max(np.abs(ctrl))))
+    for v, mlt in zip(vals, counts):
+        want = p - int(mlt) - 1
+        if want > 0:
+            Un, ctrl, _ = remove_knot(Un, q, ctrl, float(v), want, rtol)
+    return Un, ctrl

@@ -447,9 +447,34 @@ class NURBS(BSpline):
     def _from_ctrl(self, Q, p, U):
         return NURBS.from_homogeneous(Q, p, U)
 
-    def derivative_curve(self):
-        raise NotImplementedError("the derivative of a NURBS is not a NURBS of lower degree; "
-                                  "use derivative(u, order)")
+    def derivative_curve(self, *, tol=1e-9):
+        """The exact derivative ``C'(u)`` as a :class:`NURBS` of degree ``2 p``.
+
+        The derivative of ``C = A / w`` is ``(A' w - A w') / w^2``: on every
+        Bezier piece the numerator (degree ``2 p - 1``, elevated once) and
+        ``w^2`` are formed with Bezier products, and the pieces are joined with
+        the knots they share; a knot of multiplicity ``m < p`` keeps
+        multiplicity ``p + m + 1`` (the derivative is ``C^(p - m - 1)`` there),
+        the surplus being removed within ``tol`` (relative; rounding only).
+        The result is again a NURBS, so derivatives of any order follow by
+        calling this method again.
+
+        Raises
+        ------
+        ValueError
+            If the derivative jumps at a knot of multiplicity ``p`` (a corner of
+            the curve), where it is not one curve.
+
+        Examples
+        --------
+        >>> from parametric.conics import circle
+        >>> c = circle(1.0, center=(0.0, 0.0))
+        >>> d = c.derivative_curve()
+        >>> d.degree, bool(np.allclose(d(0.3), c.derivative(0.3), atol=1e-12))
+        (4, True)
+        """
+        U, Q = _ops.rational_derivative(self._U, self._p, self._Pw, float(tol))
+        return NURBS.from_homogeneous(Q, 2 * self._p, U)
 
     def to_bezier_segments(self):
         """Rational Bezier pieces as NURBS curves on their original knot spans."""

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .basis import KNOT_TOL
+from .curve_base import fd_stencil
 from .curves import Bezier, Curve, FunctionCurve, _check_order, _HERMITE, _power_derivs
 
 __all__ = ["Surface", "CoonsPatch", "RuledSurface", "BicubicPatch"]
@@ -122,7 +123,7 @@ class Surface:
 
     def _derivs(self, u, v, order):
         if order > 2:
-            raise NotImplementedError(f"{type(self).__name__} gives derivatives up to order 2")
+            return self._derivs_any(u, v, order)
         au, bu = self._domain_u
         av, bv = self._domain_v
         hu = 1e-4 * (bu - au)
@@ -141,6 +142,30 @@ class Surface:
             out[:, 2, 0] = (f(u1, v) - 2 * f(um, v) + f(u0, v)) / su ** 2
             out[:, 0, 2] = (f(u, v1) - 2 * f(u, vm) + f(u, v0)) / sv ** 2
             out[:, 1, 1] = (f(u1, v1) - f(u1, v0) - f(u0, v1) + f(u0, v0)) / (4 * su * sv)
+        return out
+
+    def _derivs_any(self, u, v, order):
+        """Partial derivatives of any order by tensor central differences.
+
+        ``d^(k+l) S / du^k dv^l`` uses the product of the ``k``-th difference
+        stencil in ``u`` and the ``l``-th in ``v``, both with steps
+        ``eps^(1/(k+l+2))`` of their domain (see
+        :func:`parametric.curve_base.fd_stencil`); second-order accurate.
+        """
+        (au, bu), (av, bv) = self._domain_u, self._domain_v
+        n = u.size
+        out = np.zeros((n, order + 1, order + 1, self._dim))
+        one = np.ones((n, 1))
+        for k in range(order + 1):
+            for l in range(order + 1):
+                tot = k + l
+                nu_, wu = fd_stencil(u, k, au, bu, tot) if k else (u[:, None], one)
+                nv_, wv = fd_stencil(v, l, av, bv, tot) if l else (v[:, None], one)
+                a_, b_ = nu_.shape[1], nv_.shape[1]
+                U = np.broadcast_to(nu_.T[:, None, :], (a_, b_, n))
+                V = np.broadcast_to(nv_.T[None, :, :], (a_, b_, n))
+                vals = self._eval(U.ravel(), V.ravel()).reshape(a_, b_, n, self._dim)
+                out[:, k, l] = np.einsum("ni,nj,ijnd->nd", wu, wv, vals)
         return out
 
     def normal(self, u, v):
