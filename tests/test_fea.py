@@ -264,6 +264,13 @@ def test_tet_mesh_checks_arguments():
         tet_mesh(sphere(1.0), size=0.1, min_dihedral=80)
     with pytest.raises(ValueError, match="solid: expected a bounded"):
         tet_mesh(~sphere(1.0), size=0.1)
+    # Surfaces TetGen would abort on are refused first.
+    a = pv.Sphere(radius=1.0).triangulate()
+    b = pv.Sphere(radius=1.0, center=(0.5, 0, 0)).triangulate()
+    with pytest.raises(ValueError, match="surface: [0-9]+ triangles intersect others"):
+        tet_mesh(sphere(1.0), size=0.3, surface=a.merge(b))
+    with pytest.raises(ValueError, match="surface: expected a closed, manifold"):
+        tet_mesh(sphere(1.0), size=0.3, surface=a.clip())
 
 
 # --------------------------------------------------------------------------- files
