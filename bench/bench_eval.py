@@ -120,13 +120,16 @@ def hand_numpy(p):
 # -- measurement ---------------------------------------------------------------
 
 def median_rate(func, points, runs):
-    """Median points per second of `func(points)` over `runs` runs."""
-    times = []
+    """Median points per second of `func(points)` over `runs` runs: by the
+    wall clock, and by the process's CPU time (all threads: per core)."""
+    wall, cpu = [], []
     for _ in range(runs):
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         func(points)
-        times.append(time.perf_counter() - start)
-    return points.shape[0] / float(np.median(times))
+        wall.append(time.perf_counter() - start)
+        cpu.append(time.process_time() - start_cpu)
+    n = points.shape[0]
+    return n / float(np.median(wall)), n / float(np.median(cpu))
 
 
 def numpy_chunked(part, chunk):
@@ -185,23 +188,24 @@ def main(argv=None) -> int:
     parallel = fast.compile_solid(part, parallel=True)
     rows = [
         ("hand numpy (whole arrays)", hand_numpy, args.slow_runs),
-        ("Solid numpy (chunk 32768)", numpy_chunked(part, 32768), args.slow_runs),
-        ("Solid numpy chunk 4096", numpy_chunked(part, 4096), args.slow_runs),
-        ("Solid numpy chunk 8192", numpy_chunked(part, 8192), args.slow_runs),
-        ("Solid numpy chunk 131072", numpy_chunked(part, 131072), args.slow_runs),
+        ("Solid numpy, chunk 32768 (before)", numpy_chunked(part, 32768), args.slow_runs),
+        ("Solid numpy, chunk 4096", numpy_chunked(part, 4096), args.slow_runs),
+        ("Solid numpy, chunk 16384 (now)", numpy_chunked(part, 16384), args.slow_runs),
+        ("Solid numpy, chunk 131072", numpy_chunked(part, 131072), args.slow_runs),
         ("tape, 1 core", lambda p: compiled(p, prune=False), args.runs),
         ("tape + pruning, 1 core (default)", lambda p: compiled(p, prune=True), args.runs),
         ("tape, 2 threads", lambda p: parallel(p, prune=False), args.runs),
         ("tape + pruning, 2 threads", lambda p: parallel(p, prune=True), args.runs),
     ]
-    print(f"hand numpy vs Solid: max difference {err:.1e}")
-    print(f"{'step':36s} {'uniform M/s':>12s} {'near surface M/s':>17s}")
+    print(f"hand numpy vs Solid: max difference {err:.1e}; load average {os.getloadavg()[0]:.1f}")
+    print("M points/s, median; wall = by the clock, core = by CPU time (per core)")
+    print(f"{'step':36s} {'uniform wall':>12s} {'core':>6s} {'near-surface wall':>18s} {'core':>6s}")
     for name, func, runs in rows:
         for pts in (uniform, near):
             func(pts[:1000])
-        ru = median_rate(func, uniform, runs)
-        rn = median_rate(func, near, runs)
-        print(f"{name:36s} {ru / 1e6:12.2f} {rn / 1e6:17.2f}", flush=True)
+        uw, uc = median_rate(func, uniform, runs)
+        nw, nc = median_rate(func, near, runs)
+        print(f"{name:36s} {uw / 1e6:12.2f} {uc / 1e6:6.2f} {nw / 1e6:18.2f} {nc / 1e6:6.2f}", flush=True)
     for pts, ref in ((uniform, ref_u), (near, fast._numpy_evaluate(part, near))):
         for func in (compiled, parallel):
             diff = np.abs(func(pts) - ref).max()

@@ -52,6 +52,7 @@ Surfaces", ACM Trans. Graph. 39(4), 2020, doi:10.1145/3386569.3392429
 
 from __future__ import annotations
 
+import importlib
 import math
 import threading
 import time
@@ -392,6 +393,54 @@ def _torus(node, gen, coords):
     lx, ly, lz = _local(gen, coords, node._c, node._frame)
     a = gen.op("subk", gen.op("hyp2", lx, ly), gen.const(node._R))
     return gen.op("subk", gen.op("hyp2", a, lz), gen.const(node._r))
+
+
+def _optional_kind(module: str, name: str):
+    """The node class `name` of `module` (relative to this package), or None
+    when it is not there: rules for kinds of other modules never break this
+    one."""
+    try:
+        return getattr(importlib.import_module(module, __package__), name)
+    except (ImportError, AttributeError):
+        return None
+
+
+_Ellipsoid = _optional_kind(".primitives", "Ellipsoid")
+_Capsule = _optional_kind(".primitives", "Capsule")
+_FamilyInstance = _optional_kind(".families", "FamilyInstance")
+
+
+def _ellipsoid(node, gen, coords):
+    # ((p - c) / r, its norm - 1) * min(r), as Ellipsoid._evaluate.
+    d = _local(gen, coords, node._c)
+    r = gen.consts_of(node._r)
+    q = [gen.op("divk", d[i], r[i]) for i in range(3)]
+    v = gen.op("subk", gen.op("hyp3", *q), gen.const(1.0))
+    return gen.op("mulk", v, gen.const(node._rmin), into=v)
+
+
+def _capsule(node, gen, coords):
+    # w = p - a; t = clip(w . ab / |ab|^2, 0, 1); |w - t ab| - r.
+    w = _local(gen, coords, node._a)
+    if node._ab2 > 0.0:
+        ab = node._ab
+        t = gen.op("mulk", w[0], gen.const(ab[0]))
+        gen.op("madk", w[1], t, gen.const(ab[1]), into=t)
+        gen.op("madk", w[2], t, gen.const(ab[2]), into=t)
+        gen.op("divk", t, gen.const(node._ab2), into=t)
+        gen.op("mink", gen.op("maxk", t, gen.const(0.0), into=t), gen.const(1.0), into=t)
+        w = [gen.op("madk", t, w[i], gen.const(-ab[i])) for i in range(3)]
+    return gen.op("subk", gen.op("hyp3", *w), gen.const(node._r))
+
+
+def _family(node, gen, coords):
+    # An instance evaluates its built tree.
+    return gen.node(node.children[0], coords)
+
+
+for _cls, _rule in ((_Ellipsoid, _ellipsoid), (_Capsule, _capsule), (_FamilyInstance, _family)):
+    if _cls is not None:
+        register_rule(_cls)(_rule)
 
 
 def _sharp(node, gen, coords, start: float, combine: str, negate_tools: bool = False) -> int:

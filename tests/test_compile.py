@@ -18,6 +18,8 @@ from implicit import (box, cone, cylinder, difference, frustum, halfspace, inter
                       rounded_box, smooth_difference, smooth_intersection, smooth_union, sphere,
                       torus, union)
 from implicit.compile import RULES, compile_solid, register_rule
+from implicit.families import instance
+from implicit.primitives import capsule, ellipsoid
 from implicit.solid import Solid
 
 #: Compiled and numpy values agree to this (absolute and relative).
@@ -39,7 +41,7 @@ def _centre(rng):
 
 
 def _leaf(rng) -> Solid:
-    kind = rng.integers(8)
+    kind = rng.integers(11)
     if kind == 0:
         return halfspace(tuple(rng.normal(size=3)), _centre(rng))
     if kind == 1:
@@ -55,8 +57,18 @@ def _leaf(rng) -> Solid:
         return cone(rng.uniform(0.1, 1.0), rng.uniform(0.2, 2.0), _centre(rng), _axis(rng))
     if kind == 6:
         return frustum(rng.uniform(0.1, 1.0), rng.uniform(0.05, 1.0), rng.uniform(0.2, 2.0), _centre(rng), _axis(rng))
-    big = rng.uniform(0.4, 1.2)
-    return torus(big, rng.uniform(0.05, 0.9) * big, _centre(rng), _axis(rng))
+    if kind == 7:
+        big = rng.uniform(0.4, 1.2)
+        return torus(big, rng.uniform(0.05, 0.9) * big, _centre(rng), _axis(rng))
+    if kind == 8:
+        return ellipsoid(tuple(rng.uniform(0.2, 1.5, 3)), _centre(rng))
+    if kind == 9:
+        a = _centre(rng)
+        b = a if rng.random() < 0.2 else _centre(rng)  # a ball when a == b
+        return capsule(a, b, rng.uniform(0.1, 0.8))
+    # A part family instance (a whole tree under one node), scaled to size.
+    name = ("l_bracket", "hole_plate", "flanged_pipe")[rng.integers(3)]
+    return instance(name).scale(0.02)
 
 
 def random_tree(rng, depth: int = 3) -> Solid:
@@ -136,6 +148,14 @@ def _plate():
     body = smooth_union(plate, *bosses, box((4.0, 0.3, 0.6)).rotate(30.0), blend=0.2)
     holes = [cylinder(0.15, 2.0, center=(x, y, 0.0)) for x in np.linspace(-3.5, 3.5, 8) for y in (-2.0, 2.0)]
     return difference(body, *holes)
+
+
+def test_family_instances_join_the_fast_path():
+    part = instance("hole_plate")
+    assert fast.supports(part)
+    lo, hi = part.bounds
+    pts = lo - 1 + (hi - lo + 2) * np.random.default_rng(9).random((30000, 3))
+    np.testing.assert_allclose(compile_solid(part)(pts), fast._numpy_evaluate(part, pts), rtol=TOL, atol=TOL)
 
 
 def test_pruning_switches_off_most_operands_of_a_plate_and_keeps_values():
