@@ -14,10 +14,13 @@ absolute error bound (or estimate, see below) for every quantity.
   occupancy ``clamp(0.5 - d/h, 0, 1)`` of the sampled distance ``d`` (second
   order).  The error is a rigorous bound: the true solid lies between the FULL
   cells and the FULL plus BOUNDARY cells.
-* Solids are meshed (marching cubes, vertices on the surface) at ``N`` and
-  ``N/2`` cells across and the integrals are Richardson-extrapolated,
-  ``(4 Q_N - Q_{N/2}) / 3``; the error estimate comes from the same sequence
-  one level further down with a safety factor.
+  (`spatial.mass_cells`)
+* Solids are meshed (marching cubes, vertices on the surface) at ``N/4``,
+  ``N/2`` and ``N`` cells across, each mesh corrected by the thin shell
+  between it and the true surface, and the integrals are
+  Richardson-extrapolated, ``(4 Q_N - Q_{N/2}) / 3``; the error estimate
+  comes from the same sequence one level further down with a safety factor
+  (`spatial.mass_solid`).
 
 Everything here works on the raw moments of the solid about a reference point
 ``c0``: ``V = int 1``, ``m1 = int (x - c0)``, ``M2 = int (x - c0)(x - c0)^T``
@@ -40,7 +43,6 @@ from __future__ import annotations
 
 import numbers
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -414,338 +416,6 @@ def _finish(raw: _Raw, density: float, units: str, voxel_size: float, method: st
 
 
 # ---------------------------------------------------------------------------
-# boxes: occupancy grids and octrees
-# ---------------------------------------------------------------------------
-
-def box_moments(centers, sizes, weights, *, center) -> tuple[float, np.ndarray, np.ndarray]:
-    """Raw moments of many weighted axis-aligned boxes, vectorized.
-
-    A box of centre ``p`` (relative to `center`) and edge lengths ``s`` has
-    ``V = s_x s_y s_z``, ``m1 = V p`` and ``M2 = V (p p^T + diag(s^2) / 12)``
-    (its own inertia included); each box counts with its weight in [0, 1].
-
-    Parameters
-    ----------
-    centers : (m, 3) float
-    sizes : (m,) or (m, 3) float
-    weights : (m,) float
-    center : (3,) float
-        Reference point of the moments.
-    """
-    p = np.asarray(centers, dtype=np.float64) - np.asarray(center, dtype=np.float64)
-    s = np.asarray(sizes, dtype=np.float64)
-    if s.ndim == 1:
-        s = np.repeat(s[:, None], 3, axis=1)
-    vol = np.prod(s, axis=1) * np.asarray(weights, dtype=np.float64)
-    V = float(vol.sum())
-    m1 = vol @ p
-    m2 = np.einsum("k,ki,kj->ij", vol, p, p) + np.diag(vol @ (s * s)) / 12.0
-    return V, m1, m2
-
-
-def _uncertain_bounds(centers, sizes, weights, center):
-    """Error bounds of the moments of boxes whose true occupancy lies anywhere
-    in [0, 1] while the estimate used `weights`."""
-    p = np.abs(np.asarray(centers, dtype=np.float64) - center)
-    s = np.asarray(sizes, dtype=np.float64)
-    if s.ndim == 1:
-        s = np.repeat(s[:, None], 3, axis=1)
-    w = np.asarray(weights, dtype=np.float64)
-    slack = np.prod(s, axis=1) * np.maximum(w, 1.0 - w)
-    reach = p + 0.5 * s
-    e_v = float(slack.sum())
-    e_m1 = slack @ reach
-    e_m2 = np.einsum("k,ki,kj->ij", slack, reach, reach)
-    return e_v, e_m1, e_m2
-
-
-def _grid_raw(grid) -> tuple[_Raw, float]:
-    """Raw moments of an occupancy grid by fractional occupancy."""
-    h = float(grid.voxel_size)
-    d = np.asarray(grid.distance, dtype=np.float64)
-    origin = np.asarray(grid.origin, dtype=np.float64)
-    shape = np.asarray(d.shape)
-    c0 = origin + 0.5 * h * shape
-    # Cells farther than half a cell diagonal from the boundary are certain.
-    half_diag = 0.5 * np.sqrt(3.0) * h
-    full = d <= -half_diag
-    uncertain = np.abs(d) < half_diag
-    idx_full = np.argwhere(full)
-    idx_unc = np.argwhere(uncertain)
-    frac = np.clip(0.5 - d[uncertain] / h, 0.0, 1.0)
-    cf = origin + (idx_full + 0.5) * h
-    cu = origin + (idx_unc + 0.5) * h
-    V1, m1a, m2a = box_moments(cf, np.full(len(cf), h), np.ones(len(cf)), center=c0)
-    V2, m1b, m2b = box_moments(cu, np.full(len(cu), h), frac, center=c0)
-    eV, e1, e2 = _uncertain_bounds(cu, np.full(len(cu), h), frac, c0)
-    area = _grid_area(d, h)
-    raw = _Raw(c0, V1 + V2, m1a + m1b, m2a + m2b, area, eV, e1, e2, area)
-    return raw, h
-
-
-def _grid_area(d: np.ndarray, h: float) -> float:
-    """Boundary area of a sampled distance field: the co-area estimate
-    ``sum |grad d| delta(d) h^3`` with a hat kernel of width one cell."""
-    g = np.gradient(d, h)
-    grad = np.sqrt(sum(gi * gi for gi in g))
-    kernel = np.clip(1.0 - np.abs(d) / h, 0.0, None) / h
-    return float((grad * kernel).sum() * h ** 3)
-
-
-def _octree_raw(tree, solid) -> tuple[_Raw, float]:
-    """Raw moments of an octree: FULL leaves exactly, BOUNDARY leaves by the
-    fractional occupancy of the distance at their centre."""
-    lo = np.asarray(tree.lo, dtype=np.float64)
-    size = np.asarray(tree.size, dtype=np.float64)
-    state = np.asarray(tree.state)
-    full = state == 1
-    bnd = state == 2
-    if not (full.any() or bnd.any()):
-        raise ValueError("octree: it holds no FULL or BOUNDARY cells (empty solid)")
-    every = full | bnd
-    c0 = 0.5 * (lo[every].min(axis=0) + (lo[every] + size[every, None]).max(axis=0))
-    centers = lo + 0.5 * size[:, None]
-    V1, m1a, m2a = box_moments(centers[full], size[full], np.ones(int(full.sum())), center=c0)
-    cb, sb = centers[bnd], size[bnd]
-    if solid is None:
-        raise ValueError("octree: it has no solid to weigh its BOUNDARY cells; pass solid=")
-    dist = solid(cb)
-    frac = np.clip(0.5 - dist / sb, 0.0, 1.0)
-    # co-area estimate with a hat kernel (|grad f| = 1); first order only
-    area = float((sb * sb * np.clip(1.0 - np.abs(dist) / sb, 0.0, None)).sum())
-    V2, m1b, m2b = box_moments(cb, sb, frac, center=c0)
-    eV, e1, e2 = _uncertain_bounds(cb, sb, frac, c0)
-    h = float(sb.min()) if len(sb) else float(size.min())
-    raw = _Raw(c0, V1 + V2, m1a + m1b, m2a + m2b, area, eV, e1, e2, area)
-    return raw, h
-
-
-# ---------------------------------------------------------------------------
-# solids: corrected marching-cubes meshes with Richardson extrapolation
-# ---------------------------------------------------------------------------
-
-def _default_mesher():
-    """``mesher(solid, h) -> PolyData``: `spatial.boundary.mesh` at cell size h."""
-    from .boundary import mesh
-
-    def mesher(solid, h):
-        return mesh(solid, voxel_size=h, progress=None)
-    return mesher
-
-
-def shell_correction(solid, points, triangles, *, center) -> np.ndarray:
-    """Moments of the thin shell between a triangle mesh and the true surface.
-
-    The surface lies at height ``t = -f`` (the field's value, an exact
-    distance or a bound of it) outward of each point of the mesh; the shell
-    adds ``int_T t dA`` to the volume, ``int_T t x dA`` to the first moment
-    and ``int_T t x x^T dA`` to the second, each integrated over a triangle
-    by the edge-midpoint rule ``A/3 (g(m_ab) + g(m_bc) + g(m_ca))`` (exact
-    for quadratic ``g``).  With vertices on the surface this lifts the
-    volume of a marching-cubes mesh of a smooth part from second to fourth
-    order, and sharp edges keep a clean second order.
-
-    Parameters
-    ----------
-    solid : Solid
-    points : (n, 3) float
-    triangles : (m, 3) int
-    center : (3,) float
-        Reference point of the moments.
-
-    Returns
-    -------
-    (13,) float
-        Corrections of ``(V, m1, M2.ravel())``.
-    """
-    pts = np.asarray(points, dtype=np.float64)
-    tri = np.asarray(triangles, dtype=np.int64)
-    c0 = np.asarray(center, dtype=np.float64)
-    a, b, c, _, area = _corners(pts, tri, c0)
-    return _shell_of(solid, a, b, c, area, c0)
-
-
-def _shell_of(solid, a, b, c, area, c0):
-    # every triangle's three edge midpoints, relative to c0, as (3, 3m) rows
-    # (a shared edge is evaluated twice: cheaper than sorting the edges)
-    x = np.concatenate([a + b, b + c, c + a], axis=1)
-    x *= 0.5
-    w = np.tile(area / 3.0, 3) * -solid((x.T + c0))
-    wx = x * w
-    return np.concatenate([[w.sum()], wx.sum(axis=1), (wx @ x.T).ravel()])
-
-
-def _solid_level(solid, h, c0, mesher, correct=True, check=False) -> np.ndarray:
-    """Raw moments (14,) of the corrected mesh of `solid` at cell size `h`."""
-    mesh = mesher(solid, h)
-    if mesh.n_cells == 0:     # a feature thinner than this level's cells
-        return np.zeros(14)
-    pts, tri = _faces_array(mesh)
-    if check:
-        _check_closed(tri, pts.shape[0])
-    kernels = _kernels()
-    if kernels is not None:
-        level, shell = kernels
-        vec, mids, weights = level(np.ascontiguousarray(pts), np.ascontiguousarray(tri), c0)
-        if correct:
-            vec[:13] += shell(mids, weights * -solid(mids), c0)
-        return vec
-    a, b, c, cross, area = _corners(pts, tri, c0)
-    vec = _moments_of(a, b, c, cross, area, c0).vector()
-    if correct:
-        vec[:13] += _shell_of(solid, a, b, c, area, c0)
-    return vec
-
-
-_KERNELS: list = []
-
-
-def _kernels():
-    """numba versions of the per-triangle sums (one pass, no temporaries),
-    or None without numba (the numpy path computes the same sums)."""
-    if _KERNELS:
-        return _KERNELS[0]
-    try:
-        import numba
-    except ImportError:  # pragma: no cover - numba is a dependency
-        _KERNELS.append(None)
-        return None
-
-    @numba.njit(cache=True, fastmath=False)
-    def level(pts, tri, c0):
-        m = tri.shape[0]
-        out = np.zeros(14)
-        mids = np.empty((3 * m, 3))
-        weights = np.empty(3 * m)
-        for k in range(m):
-            i, j, l = tri[k, 0], tri[k, 1], tri[k, 2]
-            ax, ay, az = pts[i, 0] - c0[0], pts[i, 1] - c0[1], pts[i, 2] - c0[2]
-            bx, by, bz = pts[j, 0] - c0[0], pts[j, 1] - c0[1], pts[j, 2] - c0[2]
-            cx, cy, cz = pts[l, 0] - c0[0], pts[l, 1] - c0[1], pts[l, 2] - c0[2]
-            ux, uy, uz = bx - ax, by - ay, bz - az
-            vx, vy, vz = cx - ax, cy - ay, cz - az
-            nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
-            area = 0.5 * np.sqrt(nx * nx + ny * ny + nz * nz)
-            det = ax * nx + ay * ny + az * nz
-            sx, sy, sz = ax + bx + cx, ay + by + cy, az + bz + cz
-            out[0] += det / 6.0
-            out[1] += det * sx / 24.0
-            out[2] += det * sy / 24.0
-            out[3] += det * sz / 24.0
-            d = det / 120.0
-            out[4] += d * (sx * sx + ax * ax + bx * bx + cx * cx)
-            out[5] += d * (sx * sy + ax * ay + bx * by + cx * cy)
-            out[6] += d * (sx * sz + ax * az + bx * bz + cx * cz)
-            out[8] += d * (sy * sy + ay * ay + by * by + cy * cy)
-            out[9] += d * (sy * sz + ay * az + by * bz + cy * cz)
-            out[12] += d * (sz * sz + az * az + bz * bz + cz * cz)
-            out[13] += area
-            w = area / 3.0
-            for q in range(3):
-                weights[3 * k + q] = w
-            mids[3 * k, 0] = 0.5 * (ax + bx) + c0[0]
-            mids[3 * k, 1] = 0.5 * (ay + by) + c0[1]
-            mids[3 * k, 2] = 0.5 * (az + bz) + c0[2]
-            mids[3 * k + 1, 0] = 0.5 * (bx + cx) + c0[0]
-            mids[3 * k + 1, 1] = 0.5 * (by + cy) + c0[1]
-            mids[3 * k + 1, 2] = 0.5 * (bz + cz) + c0[2]
-            mids[3 * k + 2, 0] = 0.5 * (cx + ax) + c0[0]
-            mids[3 * k + 2, 1] = 0.5 * (cy + ay) + c0[1]
-            mids[3 * k + 2, 2] = 0.5 * (cz + az) + c0[2]
-        out[7] = out[5]
-        out[10] = out[6]
-        out[11] = out[9]
-        return out, mids, weights
-
-    @numba.njit(cache=True, fastmath=False)
-    def shell(mids, w, c0):
-        out = np.zeros(13)
-        for k in range(mids.shape[0]):
-            x, y, z = mids[k, 0] - c0[0], mids[k, 1] - c0[1], mids[k, 2] - c0[2]
-            q = w[k]
-            out[0] += q
-            out[1] += q * x
-            out[2] += q * y
-            out[3] += q * z
-            out[4] += q * x * x
-            out[5] += q * x * y
-            out[6] += q * x * z
-            out[8] += q * y * y
-            out[9] += q * y * z
-            out[12] += q * z * z
-        out[7] = out[5]
-        out[10] = out[6]
-        out[11] = out[9]
-        return out
-
-    _KERNELS.append((level, shell))
-    return _KERNELS[0]
-
-
-def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None):
-    """Richardson-extrapolated raw moments of a solid, with an error estimate.
-
-    With `cells` fixed, meshes at ``cells/4``, ``cells/2`` and ``cells``.
-    With `tolerance`, starts at `MIN_CELLS` and doubles until the estimated
-    volume error is below ``tolerance * volume`` (at most `MAX_CELLS`).
-    """
-    mesher = mesher or _default_mesher()
-    lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
-    extent = float(np.max(hi - lo))
-    c0 = 0.5 * (lo + hi)
-    if cells is not None:
-        levels = [max(int(round(cells / 4)), 2), max(int(round(cells / 2)), 4), int(cells)]
-    else:
-        levels = [MIN_CELLS // 4, MIN_CELLS // 2, MIN_CELLS]
-    vecs = [_coarse_level(solid, extent / n, c0, mesher) for n in levels[:-1]]
-    vecs.append(_solid_level(solid, extent / levels[-1], c0, mesher))
-    while True:
-        est, err = _extrapolate(vecs)
-        if cells is not None or err[0] <= tolerance * abs(est[0]):
-            break
-        if levels[-1] >= MAX_CELLS:
-            import warnings
-
-            warnings.warn(f"mass_properties: tolerance {tolerance:g} not reached at {levels[-1]} cells "
-                          f"(estimated relative error {err[0] / max(abs(est[0]), 1e-300):.2g})",
-                          RuntimeWarning, stacklevel=4)
-            break
-        levels.append(levels[-1] * 2)
-        vecs.append(_solid_level(solid, extent / levels[-1], c0, mesher))
-    return _Raw.from_vector(c0, est, err), extent / levels[-1], levels[-1]
-
-
-def _coarse_level(solid, h, c0, mesher):
-    """A coarse level of the extrapolation: cells too big to resolve a thin
-    part may leave no boundary (or make the mesher give up); such a level
-    counts as empty, which the error estimate then reflects."""
-    try:
-        return _solid_level(solid, h, c0, mesher)
-    except ValueError:
-        return np.zeros(14)
-
-
-def _extrapolate(vecs):
-    """Richardson ``(4 Q_N - Q_{N/2}) / 3`` with an error estimate from the
-    previous level's extrapolation."""
-    q4, q2, q1 = vecs[-3], vecs[-2], vecs[-1]
-    r1 = (4.0 * q1 - q2) / 3.0
-    r2 = (4.0 * q2 - q4) / 3.0
-    plain = np.abs(q1 - q2) / 3.0
-    err = np.maximum(SAFETY * np.abs(r1 - r2), plain / 4.0)
-    # (the floor: extrapolation gains at least 4x over the plain estimate; two
-    # extrapolations may agree by chance, see examples/bracket.py at 64 cells)
-    # Areas converge only as h at sharp edges (marching cubes bevels them):
-    # unless the differences shrink like h^2 and the extrapolations agree,
-    # bound the area by twice the sum of the last two differences.
-    d1, d2 = abs(q1[13] - q2[13]), abs(q2[13] - q4[13])
-    second_order = 3.3 * d1 <= d2 <= 5.0 * d1 and abs(r1[13] - r2[13]) <= 0.12 * d1
-    if not second_order:
-        err[13] = max(err[13], 2.0 * (d1 + d2))
-    return r1, err
-
-
-# ---------------------------------------------------------------------------
 # the entry point
 # ---------------------------------------------------------------------------
 
@@ -801,7 +471,7 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
     Notes
     -----
     For a solid, marching-cubes meshes at ``N/4``, ``N/2`` and ``N`` cells get
-    the thin-shell correction of `shell_correction` (fourth order on smooth
+    the thin-shell correction of `spatial.mass_solid.shell_correction` (fourth order on smooth
     surfaces, second order at sharp edges) and the raw moments are
     extrapolated, ``(4 Q_N - Q_{N/2}) / 3``.  The error estimate is
     ``max(4 |R_N - R_{N/2}|, |Q_N - Q_{N/2}| / 12)`` per raw moment,
@@ -831,9 +501,13 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
         raw = mesh_moments(pts, tri)
         return _finish(raw, density, units, 0.0, "mesh (divergence theorem)")
     if kind == "grid":
+        from .mass_cells import _grid_raw
+
         raw, h = _grid_raw(obj)
         return _finish(raw, density, units, h, "grid (fractional occupancy)")
     if kind == "octree":
+        from .mass_cells import _octree_raw
+
         sol = solid if solid is not None else getattr(obj, "solid", None)
         raw, h = _octree_raw(obj, sol)
         return _finish(raw, density, units, h, "octree (exact FULL cells, fractional BOUNDARY cells)")
@@ -866,6 +540,15 @@ def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher
         if tol >= 1:
             raise ValueError(f"tolerance: expected a relative error below 1, got {tol:g}")
         tolerance = tol
+    from .mass_solid import _solid_raw
+
     raw, h, n = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher)
     return _finish(raw, density, units, h, f"solid: corrected marching cubes at {n // 4}, {n // 2}, {n} "
                                            "cells + Richardson")
+
+
+def _default_mesher():
+    """``mesher(solid, h) -> PolyData``: `spatial.boundary.mesh` at cell size h."""
+    from .mass_solid import default_mesher
+
+    return default_mesher()
