@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from importlib import metadata
 
@@ -84,6 +85,13 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("implicad: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # The reader went away (`implicad families | head`): stop quietly.
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:  # pragma: no cover
+            pass
+        return 0
     except (CommandError, ValueError, TypeError, OSError, ImportError, MemoryError, SyntaxError) as exc:
         if debug:
             raise
