@@ -197,11 +197,92 @@ def clamp(U, p, P):
     return Un, Q
 
 
+def periodic_count(U, p, P):
+    """Number of distinct control points if (U, p, P) is a wrapped periodic spline, else 0.
+
+    A periodic spline of ``k`` distinct control points is stored with the first
+    ``p`` repeated at the end and a knot vector whose spacings repeat with
+    period ``k`` (``U[i + k] - U[i] == U[n + 1] - U[p]`` for every ``i``), as
+    :meth:`parametric.curves.BSpline.periodic` builds it.
+    """
+    n1 = P.shape[0]
+    k = n1 - p
+    a, b = domain(U, p)
+    if np.all(U[:p + 1] == a) or k < p + 1:
+        return 0
+    T = b - a
+    tol = 64 * KNOT_TOL * max(1.0, float(np.max(np.abs(U))))
+    if not np.all(np.abs(U[k:] - U[:-k] - T) <= tol):
+        return 0
+    flat = P.reshape(n1, -1)
+    size = max(1.0, float(np.max(np.abs(flat))))
+    if not np.all(np.abs(flat[k:] - flat[:p]) <= 1e-12 * size):
+        return 0
+    return k
+
+
+def periodic_knots_from(vals, mult, q, a, b):
+    """Wrapped knot vector of degree ``q`` from the knots of one period.
+
+    ``vals`` in ``[a, b)`` with multiplicities ``mult`` (``vals[0] == a``);
+    returns ``(K + 2 q + 1,)`` knots with domain ``[a, b]``, ``K = sum(mult)``.
+    """
+    s = np.repeat(vals, mult)
+    K = s.size
+    T = b - a
+    idx = np.arange(-q, K + q + 1)
+    return s[idx % K] + T * np.floor_divide(idx, K)
+
+
+def fold_collocate(func, Un, q, K):
+    """Control points of the periodic spline (Un, q) with ``K`` distinct points equal to ``func``.
+
+    The wrapped basis columns ``j`` and ``j + K`` are summed (they share one
+    control point) and the values are matched in the least-squares sense at
+    ``3 K`` parameters of one period (exact when ``func`` lies in the space).
+    Returns the wrapped control array ``(K + q, ...)``.
+    """
+    a, b = domain(Un, q)
+    x = a + (b - a) * (np.arange(3 * K) + 0.5) / (3 * K)
+    B = basis_matrix(Un, q, K + q, x)
+    F = B[:, :K].copy()
+    F[:, :q] += B[:, K:]
+    vals = func(x)
+    tail = vals.shape[1:]
+    C, *_ = np.linalg.lstsq(F, vals.reshape(x.size, -1), rcond=None)
+    C = np.concatenate([C, C[:q]])
+    return C.reshape((K + q,) + tail)
+
+
+def elevate_periodic(U, p, P, t, k):
+    """Degree elevation of a wrapped periodic spline; the result is periodic again.
+
+    Unwrapped over one period the spline has the distinct knots of
+    ``[a, b)`` with multiplicities ``m``; the elevated spline has
+    multiplicities ``m + t`` at the same knots (continuity kept, section 5.5
+    of The NURBS Book), wrapped with period ``b - a``. Its control points are
+    recovered by collocation on the folded (periodic) basis.
+    """
+    a, b = domain(U, p)
+    inside = U[(U >= a) & (U < b)]
+    vals, counts = np.unique(inside, return_counts=True)
+    q = p + t
+    Un = periodic_knots_from(vals, counts + t, q, a, b)
+    K = int(np.sum(counts + t))
+    Q = fold_collocate(lambda x: eval_points(U, p, P, x), Un, q, K)
+    return Un, Q
+
+
 def elevate(U, p, P, t):
     """Degree elevation by ``t`` (decomposition + Bezier elevation + knot removal).
 
-    Falls back to :func:`elevate_collocation` if rounding stops a removal.
+    A wrapped periodic spline (:func:`periodic_count`) stays periodic
+    (:func:`elevate_periodic`). Falls back to :func:`elevate_collocation` if
+    rounding stops a removal.
     """
+    k = periodic_count(U, p, P)
+    if k:
+        return elevate_periodic(U, p, P, t, k)
     try:
         return elevate_by_decomposition(U, p, P, t)
     except ArithmeticError:

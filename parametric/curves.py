@@ -326,7 +326,10 @@ class BSpline(Curve):
         and the surplus interior knots are removed again (A5.8), which is the
         route of section 5.5 of The NURBS Book. Every distinct interior knot
         gains ``times`` in multiplicity (so the continuity is kept); the result
-        is clamped on the same domain.
+        is clamped on the same domain, except for a periodic curve (as built by
+        :meth:`periodic`): it is unwrapped over one period, elevated and
+        wrapped again, so the result is periodic with the same continuity at
+        the seam.
         """
         times = _check_degree(times, "times", minimum=0)
         if times == 0:

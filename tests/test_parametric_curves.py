@@ -368,11 +368,40 @@ def test_elevate_degree_invariance(name, times):
     u = _params_in(c)
     np.testing.assert_allclose(d(u), c(u), atol=EXACT)
     # every distinct interior knot gains `times` in multiplicity (continuity kept)
-    inner = lambda k, p: np.unique(np.asarray(k)[p + 1:-p - 1], return_counts=True)  # noqa
-    v0, m0 = inner(c.clamped().knots, c.degree)
-    v1, m1 = inner(d.knots, d.degree)
+    def inner(curve):  # knots strictly inside the domain, with multiplicities
+        a, b = curve.domain
+        k = np.asarray(curve.knots)
+        return np.unique(k[(k > a) & (k < b)], return_counts=True)
+
+    v0, m0 = inner(c)
+    v1, m1 = inner(d)
     np.testing.assert_allclose(v0, v1, atol=1e-12)
     np.testing.assert_array_equal(m1, m0 + times)
+
+
+def test_elevating_a_periodic_curve_keeps_it_periodic():
+    from parametric import _ops
+    for c in (BSpline.periodic(rng(13).normal(size=(6, 3)), 3),
+              NURBS.periodic(rng(14).normal(size=(5, 2)), rng(15).uniform(0.5, 2, 5), 2)):
+        for times in (1, 2):
+            d = c.elevate_degree(times)
+            assert type(d) is type(c) and d.degree == c.degree + times
+            assert d.domain == pytest.approx(c.domain)
+            # wrapped form: first q control points repeated at the end, periodic knots
+            ctrl = getattr(d, "homogeneous", d.control_points)
+            k = _ops.periodic_count(d.knots, d.degree, ctrl)
+            assert k == ctrl.shape[0] - d.degree > 0
+            np.testing.assert_allclose(ctrl[k:], ctrl[:d.degree], atol=0)
+            a, b = d.domain
+            assert d.knots[0] < a and d.knots[-1] > b  # not clamped
+            u = np.linspace(a, b, 301)
+            np.testing.assert_allclose(d(u), c(u), atol=EXACT)
+            # the seam keeps C^(p-1): derivatives up to p - 1 agree at both ends
+            ends = d.derivatives(np.array([a, b]), c.degree - 1)
+            np.testing.assert_allclose(ends[0], ends[1], atol=1e-10)
+    # clamped curves stay clamped
+    clamped = random_bspline(3).elevate_degree(1)
+    assert np.all(clamped.knots[:5] == 0.0)
 
 
 @pytest.mark.parametrize("name", ["bspline", "nurbs"])
