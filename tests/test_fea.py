@@ -365,3 +365,28 @@ def test_cli_meshes_a_model(tmp_path, capsys):
     assert "min dihedral (deg)" in text and "boundary sets: sphere_0" in text
     back = meshio.read(out)
     assert back.cells[0].type == "tetra"
+
+
+def test_cli_quadratic_gmsh22_without_a_terminal(tmp_path, capsys):
+    pytest.importorskip("spatial.boundary")
+    from spatial.cli import main
+
+    model = tmp_path / "ring.py"
+    model.write_text("from implicit import torus\nsolid = torus(1.0, 0.35)\n")
+    out = tmp_path / "ring.msh"
+    status = main(["fea", str(model), "-o", str(out), "--size", "0.2", "--order", "2", "--format-version", "2.2"])
+    captured = capsys.readouterr()
+    assert status == 0
+    assert "fea:" not in captured.err  # no progress bar off a terminal
+    assert "(order 2)" in captured.out
+    assert out.read_text().startswith("$MeshFormat\n2.2")
+    back = meshio.read(out)
+    assert [c.type for c in back.cells][:1] == ["tetra10"]
+    assert "torus_0" in back.field_data
+
+
+def test_cli_rejects_a_bad_size(tmp_path, capsys):
+    from spatial.cli import main
+
+    assert main(["fea", "model.py", "-o", str(tmp_path / "m.inp"), "--size", "-1"]) == 2
+    assert "--size: expected a positive length" in capsys.readouterr().err
