@@ -1052,7 +1052,9 @@ class CompiledSolid:
         The tree.
     backend : {"numba", "numpy"}
     parallel : bool
-        The interpreter runs on every core (``prange`` over bins).
+        Use every core of numba's thread pool: a pruned evaluation gives
+        each thread its share of the points to bin and evaluate, an unpruned
+        one runs the interpreter with ``prange`` over blocks.
     tape : Tape or None
         Operations, constants and pruning flags of the tree.
     """
@@ -1081,7 +1083,9 @@ class CompiledSolid:
     def warm(self) -> "CompiledSolid":
         """Compile the interpreter and the binning kernel now; return self."""
         if self.backend == "numba":
-            _kernel("parallel" if self.parallel else "serial")
+            _kernel("serial")
+            if self.parallel:
+                _kernel("parallel")
             _kernel("bin")
             _kernel("bounds")
             _kernel("unsort")
@@ -1105,19 +1109,37 @@ class CompiledSolid:
             return _numpy_evaluate(self.solid, flat)
         if prune is None:
             prune = n >= PRUNE_MIN_POINTS
-        kernel = _kernel("parallel" if self.parallel else "serial")
-        if prune and self.tape.flags and n < 2**31:
-            lo, hi = _kernel("bounds")(flat)
-            grid = _grid(lo, hi, n)
-        else:
-            grid = None
-        if grid is None:
+        if not prune or not self.tape.flags or n >= 2**31:
+            kernel = _kernel("parallel" if self.parallel else "serial")
             return _call(kernel, self.tape, flat, nthreads=self.nthreads)
+        threads = self.nthreads
+        if threads > 1 and n >= 2 * PRUNE_MIN_POINTS:
+            # Every thread bins and evaluates its own share of the points
+            # (the kernels release the GIL), so binning runs in parallel too.
+            from concurrent.futures import ThreadPoolExecutor
+            cuts = np.linspace(0, n, threads + 1).astype(np.int64)
+            out = np.empty(n)
+
+            def work(i):
+                out[cuts[i]:cuts[i + 1]] = self._pruned(flat[cuts[i]:cuts[i + 1]])
+            with ThreadPoolExecutor(threads) as pool:
+                list(pool.map(work, range(threads)))
+            return out
+        return self._pruned(flat)
+
+    def _pruned(self, flat: np.ndarray) -> np.ndarray:
+        """Binned, pruned evaluation of `flat` on the calling thread."""
+        n = flat.shape[0]
+        kernel = _kernel("serial")
+        lo, hi = _kernel("bounds")(flat)
+        grid = _grid(lo, hi, n)
+        if grid is None:
+            return _call(kernel, self.tape, flat)
         g, scale = grid
         with _Workspace(n) as (cell, order, sorted_pts, values):
             starts, box_lo, box_hi = _kernel("bin")(flat, lo, scale, g, cell, order, sorted_pts)
             active = _flags(self.tape, box_lo, box_hi, kernel)
-            _call(kernel, self.tape, sorted_pts, starts, active, self.nthreads, out=values)
+            _call(kernel, self.tape, sorted_pts, starts, active, out=values)
             out = np.empty(n)
             _kernel("unsort")(values, order, out)
             return out
