@@ -403,7 +403,8 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
         grown[tuple(hi_sl)] |= rep
         need = grown
     del rep, grown
-    values = np.full((block + 1, ny, nz), np.float32(1.0), dtype=np.float32)
+    # only needed nodes are ever read (below, each block sets its other nodes to 1)
+    values = np.empty((block + 1, ny, nz), dtype=np.float32)
     known = np.zeros((ny, nz), dtype=bool)
     if handoff is not None and handoff[0] == slab - 1:
         _, py0, pz0, pvals, pknown = handoff
@@ -412,8 +413,11 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
         if ya < yb and za < zb:
             values[0, ya - y0:yb - y0, za - z0:zb - z0] = pvals[ya - py0:yb - py0, za - pz0:zb - pz0]
             known[ya - y0:yb - y0, za - z0:zb - z0] = pknown[ya - py0:yb - py0, za - pz0:zb - pz0]
+    todo_plane = need[0].copy()
     need[0] &= ~known  # the lower plane's values came from the previous slab
     flat = np.flatnonzero(need)
+    need[0] = todo_plane
+    del todo_plane
     spent = int(flat.shape[0])
     if spent:
         ix, rest = np.divmod(flat, ny * nz)
@@ -448,6 +452,7 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
         zs = bz * block + box_lo[2] * c
         vol = np.ascontiguousarray(values[xs:xs + cb.shape[0] + 1, ys:ys + cb.shape[1] + 1,
                                           zs:zs + cb.shape[2] + 1])
+        vol[~need[xs:xs + cb.shape[0] + 1, ys:ys + cb.shape[1] + 1, zs:zs + cb.shape[2] + 1]] = 1.0
         mask = np.zeros(vol.shape, dtype=bool)
         mask[1:, 1:, 1:] = cb
         node, axis, f0, f1, faces = mesh_block(vol, mask)
