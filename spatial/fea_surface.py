@@ -46,7 +46,7 @@ NEWTON_STEPS = 6
 #: Angle (degrees) under which a snapped triangle is rejected and its vertices unsnapped.
 SNAP_MIN_ANGLE = 12.0
 #: Rounds of feature snapping and tangential relaxation.
-SNAP_ROUNDS = 3
+SNAP_ROUNDS = 4
 
 
 # ---------------------------------------------------------------------------
@@ -327,7 +327,7 @@ def _solve_on_facets(ff: FacetField, p, sets, iters=8):
     return p
 
 
-def _snap_features(ff: FacetField, points, faces, size, fixed):
+def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     """Move vertices onto the curves where two facets meet (and corners of three).
 
     For every mesh edge whose end points are decided by different facets,
@@ -350,7 +350,9 @@ def _snap_features(ff: FacetField, points, faces, size, fixed):
     # Distance estimate from each end to the other end's facet.
     da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[dec[b], a], 1e-12)
     db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[dec[a], b], 1e-12)
-    pick_a = da <= db
+    # The nearer end moves (the farther one in `far` rounds, for edges whose nearer end
+    # could not move without spoiling a triangle).
+    pick_a = (da <= db) != far
     vert = np.where(pick_a, a, b)
     other = np.where(pick_a, dec[b], dec[a])
     # Each vertex: its own facet plus up to two others (most frequent first).
@@ -604,8 +606,8 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         pts = project_to_surface(solid, pts, max_move=size)
         ff = FacetField(solid)
         fixed = np.zeros(pts.shape[0], dtype=bool)
-        for _ in range(SNAP_ROUNDS):
-            pts, count = _snap_features(ff, pts, faces, size, fixed)
+        for rnd in range(SNAP_ROUNDS):
+            pts, count = _snap_features(ff, pts, faces, size, fixed, far=rnd % 2 == 1)
             snapped += count
             # Keep vertices that sit on two facets; relax the others.
             _, _, fv = ff(pts)
