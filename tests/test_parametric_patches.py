@@ -1,0 +1,112 @@
+"""Bicubically blended Coons patches, welded tessellations and robust projection."""
+
+import numpy as np
+import pytest
+
+from parametric.curves import Bezier, BSpline
+from parametric.surfaces import CoonsPatch
+from parametric.tensor import BezierSurface
+
+EXACT = 1e-12
+
+T = np.linspace(0.0, 1.0, 201)
+ZERO, ONE = np.zeros_like(T), np.ones_like(T)
+
+
+def rng(seed=0):
+    return np.random.default_rng(seed)
+
+
+def bezier_frame(P):
+    """Boundaries and cross-boundary derivative curves of a Bezier net (m+1, n+1, 3)."""
+    m, n = P.shape[0] - 1, P.shape[1] - 1
+    bounds = (Bezier(P[:, 0]), Bezier(P[:, -1]), Bezier(P[0]), Bezier(P[-1]))
+    cross = (Bezier(n * (P[:, 1] - P[:, 0])), Bezier(n * (P[:, -1] - P[:, -2])),
+             Bezier(m * (P[1] - P[0])), Bezier(m * (P[-1] - P[-2])))
+    return bounds, cross
+
+
+# --------------------------------------------------------------------------- bicubic Coons
+
+def test_cubic_coons_reproduces_boundaries_and_given_cross_tangents():
+    P = rng(1).normal(size=(5, 6, 3))
+    surf = BezierSurface(P)
+    (c0, c1, d0, d1), cross = bezier_frame(P)
+    patch = CoonsPatch(c0, c1, d0, d1, blend="cubic", cross_tangents=cross)
+    for u, v in ((T, ZERO), (T, ONE), (ZERO, T), (ONE, T)):
+        got = patch.derivatives(u, v, 1)
+        ref = surf.derivatives(u, v, 1)
+        np.testing.assert_allclose(got[:, 0, 0], ref[:, 0, 0], atol=EXACT)
+        np.testing.assert_allclose(got[:, 1, 0], ref[:, 1, 0], atol=EXACT * 10)
+        np.testing.assert_allclose(got[:, 0, 1], ref[:, 0, 1], atol=EXACT * 10)
+    np.testing.assert_allclose(patch.twists[0, 0], surf.derivatives(0.0, 0.0, 1)[1, 1],
+                               atol=EXACT * 100)
+
+
+def test_cubic_coons_reproduces_a_bicubic_surface_exactly():
+    # the Boolean sum of cubic Hermite interpolants is exact on bicubic polynomials
+    P = rng(2).normal(size=(4, 4, 3))
+    surf = BezierSurface(P)
+    bounds, cross = bezier_frame(P)
+    patch = CoonsPatch(*bounds, blend="cubic", cross_tangents=cross)
+    u, v = rng(3).uniform(0, 1, (2, 500))
+    np.testing.assert_allclose(patch(u, v), surf(u, v), atol=EXACT)
+    np.testing.assert_allclose(patch.derivatives(u, v, 2), surf.derivatives(u, v, 2),
+                               atol=1e-10)
+    # the linear Coons patch is not exact on it
+    lin = CoonsPatch(*bounds)
+    assert np.abs(lin(u, v) - surf(u, v)).max() > 1e-3
+
+
+def test_cubic_coons_with_some_cross_tangents_estimates_the_others_compatibly():
+    P = rng(4).normal(size=(4, 5, 3))
+    surf = BezierSurface(P)
+    bounds, cross = bezier_frame(P)
+    patch = CoonsPatch(*bounds, blend="cubic", cross_tangents=(cross[0], None, cross[2], None))
+    d = patch.derivatives(T, ZERO, 1)
+    np.testing.assert_allclose(d[:, 0, 1], surf.derivatives(T, ZERO, 1)[:, 0, 1], atol=EXACT * 10)
+    d = patch.derivatives(ZERO, T, 1)
+    np.testing.assert_allclose(d[:, 1, 0], surf.derivatives(ZERO, T, 1)[:, 1, 0], atol=EXACT * 10)
+    for u, v, ref in ((T, ONE, bounds[1]), (ONE, T, bounds[3])):
+        np.testing.assert_allclose(patch(u, v), ref(T), atol=EXACT)
+    # the estimated T1 meets the boundary tangents and takes the twists of E0 at p01
+    d1 = patch.derivatives(np.array([0.0, 1.0]), np.array([1.0, 1.0]), 1)
+    np.testing.assert_allclose(d1[:, 0, 1], [bounds[2].derivative(1.0), bounds[3].derivative(1.0)],
+                               atol=EXACT * 10)
+    np.testing.assert_allclose(d1[0, 1, 1], surf.derivatives(0.0, 1.0, 1)[1, 1], atol=1e-10)
+
+
+def test_cubic_coons_without_cross_tangents_is_the_linear_patch():
+    c0 = BSpline([[0, 0, 0], [1, 0, 1], [2, 0, 0]], 2)
+    c1 = BSpline([[0, 2, 0], [1, 2, -1], [2, 2, 0]], 2)
+    d0 = BSpline([[0, 0, 0], [0.3, 1, 0.5], [0, 2, 0]], 2)
+    d1 = BSpline([[2, 0, 0], [2, 2, 0]], 1)
+    cub = CoonsPatch(c0, c1, d0, d1, blend="cubic")
+    lin = CoonsPatch(c0, c1, d0, d1)
+    for u, v in ((T, ZERO), (T, ONE), (ZERO, T), (ONE, T)):
+        np.testing.assert_allclose(cub.derivatives(u, v, 1)[:, :2, :2],
+                                   lin.derivatives(u, v, 1)[:, :2, :2], atol=EXACT)
+    # and the Boolean sum of Hermite projectors reproduces the linear patch from
+    # its own boundary data: (I - Hu)(I - Hv) kills functions linear in u or v
+    u, v = rng(5).uniform(0.0, 1.0, (2, 200))
+    np.testing.assert_allclose(cub(u, v), lin(u, v), atol=EXACT)
+
+
+def test_cubic_coons_errors():
+    P = rng(6).normal(size=(4, 4, 3))
+    bounds, cross = bezier_frame(P)
+    with pytest.raises(ValueError, match="cross_tangents needs blend='cubic'"):
+        CoonsPatch(*bounds, cross_tangents=cross)
+    with pytest.raises(ValueError, match="must be 4 entries"):
+        CoonsPatch(*bounds, blend="cubic", cross_tangents=cross[:3])
+    off = Bezier(cross[0].control_points + [0.0, 0.0, 0.5])
+    with pytest.raises(ValueError, match="cross_tangents T0 at corner p00"):
+        CoonsPatch(*bounds, blend="cubic", cross_tangents=(off,) + cross[1:])
+    # a T0 with the right end values but another slope at u = 0: twists disagree
+    Q = cross[0].elevate_degree(2).control_points.copy()
+    Q[1] += [0.0, 0.0, 1.0]
+    bent = Bezier(Q)
+    with pytest.raises(ValueError, match="give different twists at corner p00"):
+        CoonsPatch(*bounds, blend="cubic", cross_tangents=(bent,) + cross[1:])
+    with pytest.raises(TypeError, match="T1 must be a curve or a callable"):
+        CoonsPatch(*bounds, blend="cubic", cross_tangents=(None, 3.0, None, None))
