@@ -18,8 +18,7 @@ def _openvdb_or_reason():
     return pyopenvdb, ""
 
 
-@pytest.fixture
-def requires_openvdb():
+def require_openvdb():
     """The pyopenvdb module; skip without it, fail without it when CI=true."""
     module, reason = _openvdb_or_reason()
     if module is None:
@@ -27,3 +26,9 @@ def requires_openvdb():
             pytest.fail(f"CI=true: {reason}")
         pytest.skip(reason)
     return module
+
+
+@pytest.fixture
+def requires_openvdb():
+    """Fixture form of `require_openvdb`."""
+    return require_openvdb()

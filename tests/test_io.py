@@ -71,6 +71,21 @@ def test_missing_openvdb_names_the_package(monkeypatch):
         import_openvdb()
 
 
+def test_openvdb_marker_skips_or_fails_on_ci(monkeypatch):
+    from conftest import require_openvdb
+
+    monkeypatch.setitem(sys.modules, "pyopenvdb", None)
+    monkeypatch.delenv("CI", raising=False)
+    with pytest.raises(pytest.skip.Exception, match="python3-openvdb"):
+        require_openvdb()
+    monkeypatch.setenv("CI", "true")
+    with pytest.raises(pytest.fail.Exception, match="CI=true"):
+        require_openvdb()
+    monkeypatch.delitem(sys.modules, "pyopenvdb")
+    monkeypatch.delenv("CI")
+    assert require_openvdb() is not None  # the real module (or a skip where it is missing)
+
+
 def test_mesh_to_solid(requires_openvdb, tmp_path, ball):
     h = 0.05
     s = mesh_to_solid(ball, h)
