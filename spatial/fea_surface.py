@@ -372,6 +372,12 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     off = np.abs(ff.solid(new))
     ok = (move < 0.8 * size) & (off < 1e-6 * max(size, 1e-12) + 1e-9) & np.isfinite(new).all(axis=1)
     moving, new = moving[ok], new[ok]
+    return _apply_snaps(pts, faces, moving, new)
+
+
+def _apply_snaps(pts, faces, moving, new):
+    """Move vertices `moving` to `new`, then undo moves that fold or sharpen a triangle."""
+    n = pts.shape[0]
     before_n = _normals(pts, faces)
     cand = pts.copy()
     cand[moving] = new
@@ -392,6 +398,60 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
         cand[worst] = pts[worst]
         snapped[worst] = False
     return cand, int(snapped.sum())
+
+
+def _snap_corners(ff: FacetField, points, faces, size, tol):
+    """Put one vertex on each corner where three facets meet.
+
+    A mesh edge whose two ends lie on three or more facets between them
+    (e.g. one end on an edge of the part, the other on another edge) has a
+    corner nearby: the three facets' common point.  Of all the vertices next
+    to a corner, the nearest moves onto it (unless one is there already).
+    Returns the new points and the number of vertices moved.
+    """
+    pts = points
+    _, _, fv = ff(pts)
+    near = np.abs(fv) < tol  # (k, n)
+    edges = _edges(faces)
+    a, b = edges[:, 0], edges[:, 1]
+    union = near[:, a] | near[:, b]
+    cand = (union.sum(axis=0) >= 3) & near[:, a].any(axis=0) & near[:, b].any(axis=0)
+    if not cand.any():
+        return pts, 0
+    a, b, union = a[cand], b[cand], union[:, cand]
+    # The three lowest facets of the union, solved from the edge's midpoint.
+    sets = np.argsort(~union, axis=0, kind="stable")[:3].T
+    corner = _solve_on_facets(ff, 0.5 * (pts[a] + pts[b]), sets, iters=12)
+    _, _, fc = ff(corner)
+    rows = np.arange(len(a))
+    ok = np.isfinite(corner).all(axis=1) & (np.abs(ff.solid(corner)) < tol)
+    ok &= np.all(np.abs(fc[sets, rows[:, None]]) < tol, axis=1)
+    da = np.linalg.norm(pts[a] - corner, axis=1)
+    db = np.linalg.norm(pts[b] - corner, axis=1)
+    vert = np.where(da <= db, a, b)
+    dist = np.minimum(da, db)
+    ok &= dist < 0.8 * size
+    vert, corner, dist = vert[ok], corner[ok], dist[ok]
+    if vert.size == 0:
+        return pts, 0
+    # One vertex per corner (the nearest), none where a vertex is already on it.
+    key = np.round(corner / (1e-3 * size)).astype(np.int64)
+    _, group = np.unique(key, axis=0, return_inverse=True)
+    group = group.reshape(-1)
+    order = np.lexsort((dist, group))
+    first = np.ones(order.size, dtype=bool)
+    first[1:] = group[order][1:] != group[order][:-1]
+    pick = order[first]
+    pick = pick[dist[pick] > tol]
+    # A vertex near two corners goes to the nearer.
+    order = np.lexsort((dist[pick], vert[pick]))
+    pick = pick[order]
+    keep = np.ones(pick.size, dtype=bool)
+    keep[1:] = vert[pick][1:] != vert[pick][:-1]
+    pick = pick[keep]
+    if pick.size == 0:
+        return pts, 0
+    return _apply_snaps(pts, faces, vert[pick], corner[pick])
 
 
 def _flip_across_features(ff: FacetField, points, faces, fixed):
@@ -613,6 +673,13 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
             _, _, fv = ff(pts)
             fixed = (np.abs(fv) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
             faces = _flip_across_features(ff, pts, faces, fixed)
+            pts = _tangential_relax(solid, pts, faces, fixed)
+        tol = 1e-7 * max(size, 1.0)
+        pts, count = _snap_corners(ff, pts, faces, size, tol)
+        snapped += count
+        if count:
+            _, _, fv = ff(pts)
+            fixed = (np.abs(fv) < tol).sum(axis=0) >= 2
             pts = _tangential_relax(solid, pts, faces, fixed)
     result = _polydata(pts, faces)
     result.field_data["snapped_vertices"] = np.array([snapped])

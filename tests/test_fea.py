@@ -163,6 +163,17 @@ def test_surface_of_the_benchmark_part_keeps_sharp_edges(bench_surface):
     assert bench_surface.volume == pytest.approx(BENCH_VOLUME, rel=0.01)
 
 
+def test_surface_keeps_box_corners_and_hole_rims():
+    s = surface_for_fea(BOX_HOLE, size=0.08)
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-0.5, 0.5) for z in (-0.25, 0.25)])
+    gap = np.linalg.norm(s.points[None] - corners[:, None], axis=2).min(axis=1)
+    np.testing.assert_allclose(gap, 0.0, atol=1e-9)
+    # Vertices on the rims of the hole: radius 0.25 at z = +-0.25, about 2 pi 0.25 / 0.08 of each.
+    p = s.points
+    rim = (np.abs(np.hypot(p[:, 0], p[:, 1]) - 0.25) < 1e-9) & (np.abs(np.abs(p[:, 2]) - 0.25) < 1e-9)
+    assert rim.sum() >= 2 * 12
+
+
 def test_self_intersections_are_detected():
     a = pv.Sphere(radius=1.0).triangulate()
     b = pv.Sphere(radius=1.0, center=(0.5, 0, 0)).triangulate()
