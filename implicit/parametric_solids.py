@@ -256,7 +256,7 @@ class VolumeSolid(Solid):
         faces = vol.boundary_surfaces()
         grids = {}
         for key, s in faces.items():
-            pts, tri = s.tessellate(16, 16)
+            pts, tri = s.tessellate(16, 16, merge_seams=False)
             grids[key] = (pts, pts[tri])
         ctrl = np.asarray(vol.control_points).reshape(-1, 3)
         lo, hi = ctrl.min(axis=0), ctrl.max(axis=0)

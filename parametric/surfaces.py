@@ -20,6 +20,10 @@ __all__ = ["Surface", "CoonsPatch", "RuledSurface", "BicubicPatch"]
 #: Corner mismatch allowed by :class:`CoonsPatch`, relative to the patch size.
 CORNER_TOL = 1e-9
 
+#: Distance (relative to the surface size) under which a sampled edge counts as
+#: closed or collapsed in :meth:`Surface.tessellate` (surfaces without a control net).
+SEAM_TOL = 1e-10
+
 
 def _check_domain_pair(dom, name):
     a, b = (float(x) for x in dom)
@@ -215,31 +219,101 @@ class Surface:
         v_lines = np.transpose(self._grid(au + t * (bu - au), av + fr * (bv - av)), (1, 0, 2))
         return u_lines, v_lines
 
-    def tessellate(self, nu=32, nv=32):
+    def tessellate(self, nu=32, nv=32, *, merge_seams=True):
         """Triangulate the surface on a regular ``nu x nv`` parameter grid.
 
         Triangles wind counter-clockwise about ``Su x Sv`` (the :meth:`normal`).
-        Seams and poles of closed surfaces are not merged: their duplicate
-        points (and the zero-area triangles at a pole) are left for the mesh
-        layer to clean.
+
+        With ``merge_seams`` (default) the grid is welded by parameter-space
+        topology: a closed direction (the edge ``u = a`` is the edge ``u = b``)
+        identifies grid point ``(nu - 1, j)`` with ``(0, j)``, and a collapsed
+        boundary edge (a pole, e.g. ``v = 0`` of :func:`parametric.tensor.sphere`)
+        becomes one vertex; triangles left with a repeated vertex are dropped.
+        Which edges are closed or collapsed is decided once per edge (from
+        the control net of tensor surfaces, else from the sampled edge), never
+        point by point. A NURBS sphere gives a closed 2-manifold with Euler
+        characteristic 2, a torus one with 0. With ``merge_seams=False`` the raw
+        grid is returned (``nu * nv`` points, ``2 (nu - 1)(nv - 1)`` triangles,
+        point ``i * nv + j`` at the ``(i, j)`` grid parameters).
 
         Returns
         -------
-        points : (nu * nv, dim) float
-        triangles : (2 (nu - 1)(nv - 1), 3) int
+        points : (k, dim) float
+        triangles : (t, 3) int
+
+        Examples
+        --------
+        >>> from parametric.tensor import sphere
+        >>> pts, tri = sphere(1.0).tessellate(9, 5)
+        >>> pts.shape, tri.shape
+        ((26, 3), (48, 3))
         """
         nu, nv = int(nu), int(nv)
         if nu < 2 or nv < 2:
             raise ValueError(f"nu and nv must be >= 2, got {nu}, {nv}")
         (au, bu), (av, bv) = self._domain_u, self._domain_v
-        pts = self._grid(np.linspace(au, bu, nu), np.linspace(av, bv, nv)).reshape(-1, self._dim)
+        grid = self._grid(np.linspace(au, bu, nu), np.linspace(av, bv, nv))
+        pts = grid.reshape(-1, self._dim)
         i, j = np.meshgrid(np.arange(nu - 1), np.arange(nv - 1), indexing="ij")
         a = (i * nv + j).ravel()
         b = a + nv
         c = b + 1
         d = a + 1
-        tris = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
-        return pts, tris.astype(np.int64)
+        tris = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)]).astype(np.int64)
+        if not merge_seams:
+            return pts, tris
+        closed_u, closed_v, poles = self._topology(grid)
+        return _weld(pts, tris, nu, nv, closed_u, closed_v, poles)
+
+    def _topology(self, grid):
+        """(closed_u, closed_v, poles) of the surface, from a sampled grid.
+
+        ``poles`` is the set of collapsed boundary edges among ``"u0", "u1",
+        "v0", "v1"`` (``"v0"``: all points ``S(u, a_v)`` coincide). Tensor
+        surfaces decide from their control net instead.
+        """
+        scale = max(1.0, float(np.ptp(grid.reshape(-1, self._dim), axis=0).max()))
+        tol = SEAM_TOL * scale
+        same = lambda x, y: bool(np.max(np.linalg.norm(x - y, axis=-1)) <= tol)  # noqa: E731
+        closed_u = same(grid[0], grid[-1])
+        closed_v = same(grid[:, 0], grid[:, -1])
+        poles = {name for name, edge in (("u0", grid[0]), ("u1", grid[-1]),
+                                          ("v0", grid[:, 0]), ("v1", grid[:, -1]))
+                 if same(edge, edge[:1])}
+        return closed_u, closed_v, poles
+
+
+def _weld(pts, tris, nu, nv, closed_u, closed_v, poles):
+    """Merge grid vertices identified by the seams and poles; drop degenerate triangles."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    idx = np.arange(nu * nv).reshape(nu, nv)
+    pairs = []
+    if closed_u:
+        pairs.append((idx[-1], idx[0]))
+    if closed_v:
+        pairs.append((idx[:, -1], idx[:, 0]))
+    for name, edge in (("u0", idx[0]), ("u1", idx[-1]), ("v0", idx[:, 0]), ("v1", idx[:, -1])):
+        if name in poles:
+            pairs.append((edge, np.full(edge.shape, edge[0])))
+    if not pairs:
+        return pts, tris
+    src = np.concatenate([p[0] for p in pairs])
+    dst = np.concatenate([p[1] for p in pairs])
+    n = nu * nv
+    graph = coo_matrix((np.ones(src.size), (src, dst)), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    # number the merged vertices in order of their first grid point
+    first = np.full(label.max() + 1, n)
+    np.minimum.at(first, label, np.arange(n))
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    new = rank[label]
+    T = new[tris]
+    keep = (T[:, 0] != T[:, 1]) & (T[:, 1] != T[:, 2]) & (T[:, 0] != T[:, 2])
+    return pts[first[order]], T[keep]
 
 
 # --------------------------------------------------------------------------- Coons

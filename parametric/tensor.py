@@ -156,6 +156,37 @@ class BSplineSurface(Surface):
         H = np.transpose(H, (0, 2, 1))
         return self._project(H)
 
+    def _topology(self, grid):
+        """Closed directions and poles from the control net (clamped knots).
+
+        With clamped knots the edge ``u = a`` is the curve of control row
+        ``P[0]`` (and ``u = b`` of ``P[-1]``): the direction is closed when the
+        two rows (homogeneous for NURBS) are equal, an edge is a pole when all
+        points of its row coincide; a wrapped periodic direction is closed.
+        Unclamped, non-periodic directions fall back to the sampled grid.
+        """
+        closed_s, closed_v_s, poles_s = Surface._topology(self, grid)
+        C = self._ctrl()
+        P = self._P
+        tol = 1e-12 * max(1.0, float(np.max(np.abs(C))))
+        same = lambda x, y: bool(np.max(np.abs(x - y)) <= tol)  # noqa: E731
+        out = []
+        poles = set()
+        for axis, (U, p) in enumerate(((self._Uu, self._p), (self._Uv, self._q))):
+            Ct = C if axis == 0 else np.transpose(C, (1, 0, 2))
+            Pt = P if axis == 0 else np.transpose(P, (1, 0, 2))
+            name = "uv"[axis]
+            if np.all(U[:p + 1] == U[p]) and np.all(U[-p - 1:] == U[-1]):
+                out.append(same(Ct[0], Ct[-1]))
+                poles |= {name + "0"} if same(Pt[0], Pt[0, :1]) else set()
+                poles |= {name + "1"} if same(Pt[-1], Pt[-1, :1]) else set()
+            elif _ops.periodic_count(U, p, Ct):
+                out.append(True)
+            else:
+                out.append(closed_s if axis == 0 else closed_v_s)
+                poles |= {x for x in poles_s if x[0] == name}
+        return out[0], out[1], poles
+
     # ------------------------------------------------------------ isocurves
     def isocurve_u(self, u0):
         """Exact curve ``v -> S(u0, v)`` (a :class:`BSpline`, or :class:`NURBS`)."""

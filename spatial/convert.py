@@ -491,7 +491,7 @@ def surface_to_mesh(surface, nu=64, nv=64):
         raise ValueError(f"surface: expected a 3D surface, got dimension {surface.dim}")
     nu, nv = _count(nu, "nu", 2), _count(nv, "nv", 2)
     pv = _pyvista()
-    pts, tri = surface.tessellate(nu, nv)
+    pts, tri = surface.tessellate(nu, nv, merge_seams=False)
     faces = np.hstack([np.full((tri.shape[0], 1), 3), tri]).ravel()
     mesh = pv.PolyData(pts, faces)
     (au, bu), (av, bv) = surface.domain_u, surface.domain_v

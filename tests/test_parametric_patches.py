@@ -110,3 +110,87 @@ def test_cubic_coons_errors():
         CoonsPatch(*bounds, blend="cubic", cross_tangents=(bent,) + cross[1:])
     with pytest.raises(TypeError, match="T1 must be a curve or a callable"):
         CoonsPatch(*bounds, blend="cubic", cross_tangents=(None, 3.0, None, None))
+
+
+# --------------------------------------------------------------------------- welded tessellation
+
+def edge_counts(tris):
+    """Undirected edges (e, 2) with how many triangles use each, and directed edges."""
+    directed = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    und, counts = np.unique(np.sort(directed, axis=1), axis=0, return_counts=True)
+    return und, counts, directed
+
+
+def enclosed_volume(pts, tris):
+    a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
+    return float(np.einsum("nd,nd->n", a, np.cross(b, c)).sum() / 6.0)
+
+
+@pytest.mark.parametrize("nu, nv", [(9, 5), (33, 17), (4, 3)])
+def test_sphere_tessellates_to_a_closed_two_manifold(nu, nv):
+    from parametric.tensor import sphere
+    s = sphere(2.0, center=(1.0, 0.0, 0.0))
+    pts, tris = s.tessellate(nu, nv)
+    und, counts, directed = edge_counts(tris)
+    assert pts.shape == ((nu - 1) * (nv - 2) + 2, 3)
+    assert tris.shape == (2 * (nu - 1) * (nv - 2), 3)
+    assert len(pts) - len(und) + len(tris) == 2             # Euler characteristic
+    assert np.all(counts == 2)                              # closed, manifold edges
+    assert np.unique(directed, axis=0).shape[0] == directed.shape[0]  # consistent winding
+    assert np.all(np.isin(np.arange(len(pts)), tris))       # no unused vertex
+    # no duplicate points and no zero-area triangle
+    d = np.linalg.norm(pts[:, None] - pts[None], axis=-1) + np.eye(len(pts)) * 10
+    assert d.min() > 1e-3
+    area = np.linalg.norm(np.cross(pts[tris[:, 1]] - pts[tris[:, 0]],
+                                   pts[tris[:, 2]] - pts[tris[:, 0]]), axis=1)
+    assert area.min() > 1e-6
+    assert enclosed_volume(pts - [1.0, 0.0, 0.0], tris) > 0  # outward normals
+
+
+def test_torus_cylinder_and_open_patches_weld_by_topology():
+    from parametric.tensor import BSplineSurface, cylinder, torus
+    pts, tris = torus(2.0, 0.5).tessellate(17, 9)
+    und, counts, _ = edge_counts(tris)
+    assert pts.shape[0] == 16 * 8 and np.all(counts == 2)
+    assert len(pts) - len(und) + len(tris) == 0
+    pts, tris = cylinder(1.0, 2.0).tessellate(17, 5)
+    und, counts, _ = edge_counts(tris)
+    assert pts.shape[0] == 16 * 5 and np.sum(counts == 1) == 2 * 16  # two boundary loops
+    assert len(pts) - len(und) + len(tris) == 0
+    # an open patch is unchanged, and merge_seams=False keeps the raw grid
+    net = rng(7).normal(size=(5, 4, 3))
+    b = BSplineSurface(net, 3, 2)
+    p1, t1 = b.tessellate(6, 7)
+    p0, t0 = b.tessellate(6, 7, merge_seams=False)
+    np.testing.assert_array_equal(p1, p0)
+    np.testing.assert_array_equal(t1, t0)
+    p0, t0 = cylinder().tessellate(5, 4, merge_seams=False)
+    assert p0.shape == (20, 3) and t0.shape == (24, 3)
+
+
+def test_periodic_surface_and_generic_surface_weld():
+    from parametric.surfaces import Surface
+    from parametric.tensor import BSplineSurface
+    from parametric.basis import periodic_knots
+
+    # a closed tube from a wrapped periodic B-spline: closed by its knots and net
+    ang = np.linspace(0, 2 * np.pi, 6, endpoint=False)
+    ring = np.stack([np.cos(ang), np.sin(ang), np.zeros(6)], -1)
+    net = np.stack([ring + [0, 0, z] for z in (0.0, 1.0, 2.0)], axis=1)   # (6, 3, 3)
+    net = np.concatenate([net, net[:3]])                                 # wrap 3
+    tube = BSplineSurface(net, 3, 2, periodic_knots(6, 3), None)
+    pts, tris = tube.tessellate(13, 4)
+    assert pts.shape[0] == 12 * 4
+    _, counts, _ = edge_counts(tris)
+    assert np.sum(counts == 1) == 2 * 12
+
+    class Cone(Surface):  # apex at v = 1, closed in u: decided from the sampled edges
+        def _eval(self, u, v):
+            a = 2 * np.pi * u
+            return np.stack([(1 - v) * np.cos(a), (1 - v) * np.sin(a), v], -1)
+
+    pts, tris = Cone().tessellate(9, 5)
+    und, counts, _ = edge_counts(tris)
+    assert pts.shape[0] == 8 * 4 + 1
+    assert np.sum(counts == 1) == 8            # only the base circle is a boundary
+    assert len(pts) - len(und) + len(tris) == 1  # a disc

@@ -124,9 +124,12 @@ def test_isoparametric_lines_and_tessellation():
     assert u_lines.shape == (11, 30, 3) and v_lines.shape == (11, 30, 3)
     np.testing.assert_allclose(u_lines[3], s(np.full(30, 0.3), np.linspace(0, 1, 30)),
                                atol=EXACT)
-    pts, tris = s.tessellate(12, 10)
+    pts, tris = s.tessellate(12, 10, merge_seams=False)
     assert pts.shape == (120, 3) and tris.shape == (2 * 11 * 9, 3)
     assert tris.dtype.kind == "i" and tris.max() == 119
+    welded, wtris = s.tessellate(12, 10)  # both seams welded: 11 x 9 distinct points
+    assert welded.shape == (99, 3) and wtris.shape == tris.shape and wtris.max() == 98
+    np.testing.assert_allclose(welded[wtris], pts[tris], atol=EXACT)
     # triangle winding follows Su x Sv: outward on the torus
     a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
     n = np.cross(b - a, c - a)
