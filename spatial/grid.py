@@ -145,8 +145,8 @@ class OccupancyGrid:
         if lattice.empty:
             raise ValueError("solid: it is empty (its bounds enclose nothing); pass bounds= to sample a region")
         n = tuple(int(v) for v in lattice.shape)
-        check_dense_memory(n, bytes_per_voxel=4 + 8 * 3 / max(n[0], 1) + 1, what="OccupancyGrid.from_solid",
-                           max_bytes=max_bytes)
+        # float32 distances, plus a bool occupancy when the caller asks for it
+        check_dense_memory(n, bytes_per_voxel=5, what="OccupancyGrid.from_solid", max_bytes=max_bytes)
         h = lattice.voxel_size
         dist = np.empty(n, dtype=np.float32)
         jk = np.stack(np.meshgrid(np.arange(n[1]), np.arange(n[2]), indexing="ij"), axis=-1).reshape(-1, 2)
