@@ -4,10 +4,11 @@
 twice the voxel size, keeps their BOUNDARY cells and meshes only them:
 
 1. the lattice nodes (spacing ``h``) of the boundary cells are sampled, slab
-   by slab along x; every node is evaluated exactly once (a node on the face
-   between two slabs is evaluated by the first slab needing it and handed to
-   the next), so the blocks on both sides of a face see one value and agree
-   on its sign;
+   by slab along x, in dense arrays of the slab's active blocks only (the
+   work follows the surface); every node is evaluated exactly once (a node on
+   a face shared by two blocks is merged by its integer id, one on the plane
+   between two slabs is evaluated by the first slab and handed to the next),
+   so the blocks on both sides of a face see one value and agree on its sign;
 2. the cells are grouped into blocks of ``block**3`` voxels; every block is
    meshed independently by scikit-image's Lewiner marching cubes restricted
    (``mask=``) to the voxels of its boundary cells -- a pure function of the
@@ -372,73 +373,89 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
 def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
     """Sample and mesh one slab of cells (x from ``slab * block`` voxels, ``block`` thick).
 
-    The slab's nodes live in a dense float32 array spanning the block-aligned
-    y/z range of its cells; only nodes of its cells are evaluated, and the
-    lower node plane reuses the values the previous slab evaluated for its
-    upper plane.  Returns ``(blocks meshed, evaluations, handoff)``.
+    The slab's active blocks (those holding cells) are stacked in dense
+    ``(nb, block+1, block+1, block+1)`` arrays, so the work follows the
+    surface.  Only nodes of the cells are evaluated, each once: nodes on a
+    face shared by two blocks are merged by their integer id, and the lower
+    node plane reuses the values the previous slab evaluated for its upper
+    plane (`handoff`: sorted ids and values).  Returns ``(blocks meshed,
+    evaluations, handoff)``.
     """
-    x0 = slab * block
-    lo = sc.min(axis=0) * c
-    hi = (sc.max(axis=0) + 1) * c
-    y0 = (lo[1] // block) * block
-    z0 = (lo[2] // block) * block
-    ny = -(-(hi[1] - y0) // block) * block + 1
-    nz = -(-(hi[2] - z0) // block) * block + 1
-    local = sc * c - np.array([x0, y0, z0])
-    # the cells of the slab (dense), and the nodes of those cells: a node is needed when a
-    # cell holds it, a separable dilation (each axis: repeat c times, OR with a shift by one)
-    cellmask = np.zeros((block // c, (ny - 1) // c, (nz - 1) // c), dtype=bool)
-    cellmask[local[:, 0] // c, local[:, 1] // c, local[:, 2] // c] = True
-    need = cellmask
-    for ax in range(3):
+    B = block
+    P = B // c
+    x0 = slab * B
+    # -- active blocks and their cells --------------------------------------------------
+    by = sc[:, 1] // P
+    bz = sc[:, 2] // P
+    nbz = int(bz.max()) + 1
+    keys, inv = np.unique(by * nbz + bz, return_inverse=True)
+    nb = keys.shape[0]
+    bys, bzs = np.divmod(keys, nbz)
+    cells = np.zeros((nb, P, P, P), dtype=bool)
+    cells[inv, sc[:, 0] - slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P] = True
+    del by, bz, inv
+    # nodes of the cells: a separable dilation (each axis: repeat c times, OR a shift by one)
+    need = cells
+    for ax in (1, 2, 3):
         rep = np.repeat(need, c, axis=ax) if c > 1 else need
         shape = list(rep.shape)
         shape[ax] += 1
         grown = np.zeros(shape, dtype=bool)
-        lo_sl = [slice(None)] * 3
-        hi_sl = [slice(None)] * 3
+        lo_sl = [slice(None)] * 4
+        hi_sl = [slice(None)] * 4
         lo_sl[ax] = slice(0, -1)
         hi_sl[ax] = slice(1, None)
         grown[tuple(lo_sl)] = rep
         grown[tuple(hi_sl)] |= rep
         need = grown
     del rep, grown
-    # only needed nodes are ever read (below, each block sets its other nodes to 1)
-    values = np.empty((block + 1, ny, nz), dtype=np.float32)
-    known = np.zeros((ny, nz), dtype=bool)
-    if handoff is not None and handoff[0] == slab - 1:
-        _, py0, pz0, pvals, pknown = handoff
-        ya, yb = max(y0, py0), min(y0 + ny, py0 + pvals.shape[0])
-        za, zb = max(z0, pz0), min(z0 + nz, pz0 + pvals.shape[1])
-        if ya < yb and za < zb:
-            values[0, ya - y0:yb - y0, za - z0:zb - z0] = pvals[ya - py0:yb - py0, za - pz0:zb - pz0]
-            known[ya - y0:yb - y0, za - z0:zb - z0] = pknown[ya - py0:yb - py0, za - pz0:zb - pz0]
-    todo_plane = need[0].copy()
-    need[0] &= ~known  # the lower plane's values came from the previous slab
+    # -- global ids of the needed nodes ----------------------------------------------------
     flat = np.flatnonzero(need)
-    need[0] = todo_plane
-    del todo_plane
-    spent = int(flat.shape[0])
-    if spent:
-        ix, rest = np.divmod(flat, ny * nz)
-        iy, iz = np.divmod(rest, nz)
-        del rest
-        pts = np.empty((spent, 3))
-        pts[:, 0] = origin[0] + (ix + x0) * h
-        pts[:, 1] = origin[1] + (iy + y0) * h
-        pts[:, 2] = origin[2] + (iz + z0) * h
-        del ix, iy, iz
-        values.reshape(-1)[flat] = _nudge(_evaluate(solid, pts), h).astype(np.float32)
-        del pts
-    del flat
-    handoff = (slab, y0, z0, values[block].copy(), need[block].copy())  # every needed upper node was evaluated here
-    # -- blocks -------------------------------------------------------------------------
-    bkeys = np.unique((local[:, 1] // block) * (nz // block + 1) + local[:, 2] // block)
-    per = block // c
-    for key in bkeys:
-        by, bz = divmod(int(key), nz // block + 1)
-        cb = cellmask[:, by * per:(by + 1) * per, bz * per:(bz + 1) * per]
-        # crop the block to the box of its cells (less volume for marching cubes to scan)
+    n3 = (B + 1) ** 3
+    blk, rest = np.divmod(flat, n3)
+    li, rest = np.divmod(rest, (B + 1) ** 2)
+    lj, lk = np.divmod(rest, B + 1)
+    del rest
+    gy = bys[blk] * B + lj
+    gz = bzs[blk] * B + lk
+    gid = ((li + x0) * stride + gy) * stride + gz
+    # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
+    maybe = (lj % B == 0) | (lk % B == 0) | (li == 0)
+    uniq, ufirst, back = np.unique(gid[maybe], return_index=True, return_inverse=True)
+    uval = np.empty(uniq.shape[0])
+    todo_u = np.ones(uniq.shape[0], dtype=bool)
+    if handoff is not None and handoff[0] == slab - 1 and handoff[1].size:
+        pid, pval = handoff[1], handoff[2]
+        pos = np.minimum(np.searchsorted(pid, uniq), pid.size - 1)
+        hit = pid[pos] == uniq
+        uval[hit] = pval[pos[hit]]
+        todo_u[hit] = False
+    single = ~maybe
+    # evaluate the single nodes and the merged nodes not handed over, in one call
+    pick = np.concatenate([np.flatnonzero(single), np.flatnonzero(maybe)[ufirst[todo_u]]])
+    pts = np.empty((pick.shape[0], 3))
+    pts[:, 0] = origin[0] + (li[pick] + x0) * h
+    pts[:, 1] = origin[1] + gy[pick] * h
+    pts[:, 2] = origin[2] + gz[pick] * h
+    vals_pick = _nudge(_evaluate(solid, pts), h) if pick.shape[0] else np.empty(0)
+    del pts
+    spent = int(pick.shape[0])
+    n_single = int(np.count_nonzero(single))
+    uval[todo_u] = vals_pick[n_single:]
+    node_vals = np.empty(flat.shape[0])
+    node_vals[single] = vals_pick[:n_single]
+    node_vals[maybe] = uval[back]
+    del vals_pick, pick
+    values = np.ones((nb, B + 1, B + 1, B + 1), dtype=np.float32)
+    values.reshape(-1)[flat] = node_vals
+    # the upper plane goes to the next slab
+    top = li == B
+    hid, first = np.unique(gid[top], return_index=True)
+    handoff = (slab, hid, node_vals[top][first])
+    del flat, blk, li, lj, lk, gy, gz, gid, node_vals, maybe, single
+    # -- mesh every block -------------------------------------------------------------------
+    for b in range(nb):
+        cb = cells[b]
         box_lo, box_hi = [], []
         for ax in range(3):
             hit = np.flatnonzero(cb.any(axis=tuple(a for a in range(3) if a != ax)))
@@ -447,22 +464,19 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
         cb = cb[box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
         if c > 1:
             cb = np.repeat(np.repeat(np.repeat(cb, c, 0), c, 1), c, 2)
-        xs = box_lo[0] * c
-        ys = by * block + box_lo[1] * c
-        zs = bz * block + box_lo[2] * c
-        vol = np.ascontiguousarray(values[xs:xs + cb.shape[0] + 1, ys:ys + cb.shape[1] + 1,
+        xs, ys, zs = box_lo[0] * c, box_lo[1] * c, box_lo[2] * c
+        vol = np.ascontiguousarray(values[b, xs:xs + cb.shape[0] + 1, ys:ys + cb.shape[1] + 1,
                                           zs:zs + cb.shape[2] + 1])
-        vol[~need[xs:xs + cb.shape[0] + 1, ys:ys + cb.shape[1] + 1, zs:zs + cb.shape[2] + 1]] = 1.0
         mask = np.zeros(vol.shape, dtype=bool)
         mask[1:, 1:, 1:] = cb
         node, axis, f0, f1, faces = mesh_block(vol, mask)
         if faces.shape[0]:
-            node += (xs + x0, ys + y0, zs + z0)
+            node += (xs + x0, ys + int(bys[b]) * B, zs + int(bzs[b]) * B)
             edges = ((node[:, 0] * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
-            on_plane = (node % block == 0) & (axis[:, None] != np.arange(3))
+            on_plane = (node % B == 0) & (axis[:, None] != np.arange(3))
             shared = on_plane.any(axis=1)
             parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1), faces))
-    return int(bkeys.shape[0]), spent, handoff
+    return nb, spent, handoff
 
 
 def _refine_on_edges(solid, p0, axis, h, t, f0, f1, steps=REFINE_STEPS, tol=REFINE_TOL, accept=REFINE_ACCEPT,
