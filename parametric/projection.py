@@ -5,7 +5,12 @@ each point is seeded with the nearest sample of the curve or surface
 (``scipy.spatial.cKDTree``) and refined with Newton steps on
 ``f = C'(u) . (C(u) - P) = 0`` (curves) or ``(Su . r, Sv . r) = 0`` (surfaces),
 vectorized over all points at once, clamped to the domain, with a halving step
-whenever a step would move away from the point.
+whenever a step would move away from the point. Distance has local minima
+(a point above a wavy patch sees several valleys): other nearest samples that
+are discrete local minima of the sampled distance, apart from the first seed and
+its result and within half the sampling reach of the distance found, seed
+further Newton runs, and the best result is kept; a result is never farther
+than the nearest sample.
 """
 
 from __future__ import annotations
@@ -16,11 +21,17 @@ from scipy.spatial import cKDTree
 from .curves import BSpline, Curve
 from .surfaces import Surface
 
-__all__ = ["project_to_curve", "project_to_surface", "PROJECTION_TOL"]
+__all__ = ["project_to_curve", "project_to_surface", "PROJECTION_TOL", "CURVE_SEEDS",
+           "SURFACE_SEEDS"]
 
 #: Relative parameter step below which Newton iterations stop (the step is still
 #: taken; Newton's quadratic convergence leaves an error near its square).
 PROJECTION_TOL = 1e-9
+
+#: Nearest samples tried as Newton seeds (see :func:`project_to_curve`).
+CURVE_SEEDS = 6
+#: Nearest grid samples tried as Newton seeds (see :func:`project_to_surface`).
+SURFACE_SEEDS = 8
 
 
 def _query_points(points, dim):
@@ -37,7 +48,16 @@ def _query_points(points, dim):
     return P, scalar
 
 
-def project_to_curve(curve, points, *, samples=None, iterations=30, tol=PROJECTION_TOL):
+def _check_seeds(seeds):
+    if isinstance(seeds, (bool, np.bool_)) or not isinstance(seeds, (int, np.integer)):
+        raise TypeError(f"seeds must be an int, got {type(seeds).__name__}")
+    if seeds < 1:
+        raise ValueError(f"seeds must be >= 1, got {seeds}")
+    return int(seeds)
+
+
+def project_to_curve(curve, points, *, samples=None, iterations=30, tol=PROJECTION_TOL,
+                     seeds=CURVE_SEEDS):
     """Closest points on ``curve`` to many points.
 
     Parameters
@@ -51,6 +71,12 @@ def project_to_curve(curve, points, *, samples=None, iterations=30, tol=PROJECTI
         Maximum Newton iterations.
     tol : float
         Stop when the parameter step is below ``tol`` times the domain length.
+    seeds : int
+        Nearest samples considered as Newton seeds. Newton runs from the nearest;
+        the others run too where they are not next to it nor to its result and
+        lie within the sampling reach of the distance found (a nearer foot
+        point may hide there); the best result is kept, and it is never farther
+        than the nearest sample.
 
     Returns
     -------
@@ -68,21 +94,79 @@ def project_to_curve(curve, points, *, samples=None, iterations=30, tol=PROJECTI
     if not isinstance(curve, Curve):
         raise TypeError(f"curve must be a Curve, got {type(curve).__name__}")
     P, scalar = _query_points(points, curve.dim)
+    seeds = _check_seeds(seeds)
     a, b = curve.domain
     if samples is None:
         nc = curve.control_points.shape[0] if isinstance(curve, BSpline) else 16
         samples = max(256, 40 * nc)
     ts = np.linspace(a, b, int(samples))
     pts = curve(ts)
-    tree = cKDTree(pts)
-    _, idx = tree.query(P)
-    u = ts[idx]
+    scale = max(1.0, float(np.ptp(pts, axis=0).max()))
+    closed = np.linalg.norm(pts[0] - pts[-1]) <= 1e-10 * scale
+    k = min(int(seeds), ts.size)
+    dist, idx = cKDTree(pts).query(P, k=k)
+    dist, idx = dist.reshape(P.shape[0], k), idx.reshape(P.shape[0], k)
+    u, d2 = _curve_newton(curve, P, ts[idx[:, 0]], a, b, closed, iterations, tol, scale)
+    if k > 1:
+        # other seeds whose sample could lie near a better foot point: not next to
+        # the first seed nor to the result, and closer than the result plus the
+        # sampling reach (the largest gap between neighbouring samples)
+        gap = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        reach = np.maximum(np.concatenate([gap, [0.0]]), np.concatenate([[0.0], gap]))
+        n = ts.size
+        cell = np.clip(np.rint((u - a) / (b - a) * (n - 1)), 0, n - 1).astype(np.intp)
+
+        def apart(x, y):
+            dx = np.abs(x - y)
+            return (np.minimum(dx, n - 1 - dx) if closed else dx) > 1
+
+        cand = (apart(idx, idx[:, :1]) & apart(idx, cell[:, None])
+                & (dist - 0.5 * reach[idx] < np.sqrt(d2)[:, None]))
+        cand[:, 0] = False
+        # a separate basin shows as a discrete local minimum of the sampled distance
+        rows, cols = np.nonzero(cand)
+        if rows.size:
+            ci = idx[rows, cols]
+            local = np.ones(rows.size, bool)
+            for step in (-1, 1):
+                ni = (ci + step) % (n - 1) if closed else np.clip(ci + step, 0, n - 1)
+                local &= dist[rows, cols] <= np.linalg.norm(pts[ni] - P[rows], axis=1)
+            cand[rows[~local], cols[~local]] = False
+        pi, cj = np.nonzero(cand)
+        if pi.size:
+            uc, dc = _curve_newton(curve, P[pi], ts[idx[pi, cj]], a, b, closed, iterations,
+                                   tol, scale)
+            pick, sel = _best_per_point(pi, dc, d2)
+            u[pick], d2[pick] = uc[sel], dc[sel]
+    # never worse than the nearest sample
+    worse = d2 > dist[:, 0] ** 2
+    u[worse] = ts[idx[worse, 0]]
+    closest = curve(u)
+    dist_out = np.linalg.norm(closest - P, axis=1)
+    if scalar:
+        return u[0], closest[0], dist_out[0]
+    return u, closest, dist_out
+
+
+def _best_per_point(pi, dc, d2):
+    """Among extra results (point index ``pi``, squared distance ``dc``), the best
+    per point where it beats ``d2``: (points, indices into the extra results)."""
+    order = np.lexsort((dc, pi))
+    first = np.ones(order.size, bool)
+    first[1:] = pi[order[1:]] != pi[order[:-1]]
+    sel = order[first]
+    sel = sel[dc[sel] < d2[pi[sel]]]
+    return pi[sel], sel
+
+
+def _curve_newton(curve, P, u, a, b, closed, iterations, tol, scale):
+    """Newton point inversion from seeds ``u``: (params, squared distances)."""
+    u = u.astype(float).copy()
     span = b - a
-    closed = np.linalg.norm(pts[0] - pts[-1]) <= 1e-10 * max(1.0, np.ptp(pts, axis=0).max())
     u_prev = u.copy()
     d_prev = np.full(P.shape[0], np.inf)
     last = np.zeros(P.shape[0])
-    noise = (1e-15 * max(1.0, float(np.ptp(pts, axis=0).max()))) ** 2
+    noise = (1e-15 * scale) ** 2
     active = np.arange(P.shape[0])
     for _ in range(int(iterations)):
         if active.size == 0:
@@ -106,24 +190,23 @@ def project_to_curve(curve, points, *, samples=None, iterations=30, tol=PROJECTI
         keep = ~worse
         u_prev[active[keep]] = ua[keep]
         d_prev[active[keep]] = d[keep]
-        last[active] = stp
+        # remember the step actually taken (a clipped step is halved from its clipped length)
+        last[active] = stp if closed else new - base
         moved = np.abs(new - ua)
         if closed:
             moved = np.minimum(moved, span - moved)
         u[active] = new
         active = active[moved > tol * span]
     closest = curve(u)
-    better = d_prev < np.einsum("nd,nd->n", closest - P, closest - P)
-    if np.any(better):
-        u[better] = u_prev[better]
-        closest[better] = curve(u[better])
-    dist = np.linalg.norm(closest - P, axis=1)
-    if scalar:
-        return u[0], closest[0], dist[0]
-    return u, closest, dist
+    d2 = np.einsum("nd,nd->n", closest - P, closest - P)
+    better = d_prev < d2
+    u[better] = u_prev[better]
+    d2[better] = d_prev[better]
+    return u, d2
 
 
-def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJECTION_TOL):
+def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJECTION_TOL,
+                       seeds=SURFACE_SEEDS):
     """Closest points on ``surface`` to many points.
 
     Parameters
@@ -137,6 +220,12 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
         Maximum Newton iterations.
     tol : float
         Stop when both parameter steps are below ``tol`` times their domain length.
+    seeds : int
+        Nearest grid samples considered as Newton seeds. Newton runs from the
+        nearest; the others run too where they are not next to it nor to its
+        result and lie within the sampling reach of the distance found (a
+        nearer foot point may hide there); the best result is kept, and it is
+        never farther than the nearest sample.
 
     Returns
     -------
@@ -155,6 +244,7 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
     if not isinstance(surface, Surface):
         raise TypeError(f"surface must be a Surface, got {type(surface).__name__}")
     P, scalar = _query_points(points, surface.dim)
+    seeds = _check_seeds(seeds)
     (au, bu), (av, bv) = surface.domain_u, surface.domain_v
     if samples is None:
         ctrl = getattr(surface, "control_points", None)
@@ -168,10 +258,77 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
     scale = max(1.0, float(np.ptp(grid.reshape(-1, surface.dim), axis=0).max()))
     closed_u = np.max(np.linalg.norm(grid[0] - grid[-1], axis=-1)) <= 1e-10 * scale
     closed_v = np.max(np.linalg.norm(grid[:, 0] - grid[:, -1], axis=-1)) <= 1e-10 * scale
-    tree = cKDTree(grid.reshape(-1, surface.dim))
-    _, idx = tree.query(P)
-    u = su[idx // sv.size]
-    v = sv[idx % sv.size]
+    ns_u, ns_v = su.size, sv.size
+    k = min(int(seeds), ns_u * ns_v)
+    flat = grid.reshape(-1, surface.dim)
+    dist, idx = cKDTree(flat).query(P, k=k)
+    dist, idx = dist.reshape(P.shape[0], k), idx.reshape(P.shape[0], k)
+    dom = (au, bu, av, bv, closed_u, closed_v)
+    u, v, d2 = _surface_newton(surface, P, su[idx[:, 0] // ns_v], sv[idx[:, 0] % ns_v], dom,
+                               iterations, tol, scale)
+    if k > 1:
+        # other seeds whose sample could lie near a better foot point: not next to
+        # the first seed nor to the result, and closer than the result plus the
+        # sampling reach (the largest distance to a neighbouring sample)
+        pad = np.pad(grid, ((1, 1), (1, 1), (0, 0)), mode="edge")
+        reach = np.zeros((ns_u, ns_v))
+        for di in (0, 1, 2):
+            for dj in (0, 1, 2):
+                nb = pad[di:di + ns_u, dj:dj + ns_v]
+                reach = np.maximum(reach, np.linalg.norm(nb - grid, axis=-1))
+        reach = reach.ravel()
+        iu, iv = idx // ns_v, idx % ns_v
+        cu = np.clip(np.rint((u - au) / (bu - au) * (ns_u - 1)), 0, ns_u - 1).astype(np.intp)
+        cv = np.clip(np.rint((v - av) / (bv - av) * (ns_v - 1)), 0, ns_v - 1).astype(np.intp)
+
+        def gap(x, y, n, closed):
+            dx = np.abs(x - y)
+            return np.minimum(dx, n - 1 - dx) if closed else dx
+
+        def apart(i1, j1, i2, j2):
+            return np.maximum(gap(i1, i2, ns_u, closed_u), gap(j1, j2, ns_v, closed_v)) > 1
+
+        cand = (apart(iu, iv, iu[:, :1], iv[:, :1]) & apart(iu, iv, cu[:, None], cv[:, None])
+                & (dist - 0.5 * reach[idx] < np.sqrt(d2)[:, None]))
+        cand[:, 0] = False
+        # a separate basin shows as a discrete local minimum of the sampled distance
+        rows, cols = np.nonzero(cand)
+        if rows.size:
+            ci, cj_ = iu[rows, cols], iv[rows, cols]
+            dc0 = dist[rows, cols]
+            local = np.ones(rows.size, bool)
+            for di in (-1, 0, 1):
+                for dj in (-1, 0, 1):
+                    if di == 0 and dj == 0:
+                        continue
+                    ni, nj = ci + di, cj_ + dj
+                    ni = ni % (ns_u - 1) if closed_u else np.clip(ni, 0, ns_u - 1)
+                    nj = nj % (ns_v - 1) if closed_v else np.clip(nj, 0, ns_v - 1)
+                    dn = np.linalg.norm(grid[ni, nj] - P[rows], axis=1)
+                    local &= dc0 <= dn
+            cand[rows[~local], cols[~local]] = False
+        pi, cj = np.nonzero(cand)
+        if pi.size:
+            sel_idx = idx[pi, cj]
+            uc, vc, dc = _surface_newton(surface, P[pi], su[sel_idx // ns_v], sv[sel_idx % ns_v],
+                                         dom, iterations, tol, scale)
+            pick, sel = _best_per_point(pi, dc, d2)
+            u[pick], v[pick], d2[pick] = uc[sel], vc[sel], dc[sel]
+    # never worse than the nearest sample
+    worse = d2 > dist[:, 0] ** 2
+    u[worse], v[worse] = su[idx[worse, 0] // ns_v], sv[idx[worse, 0] % ns_v]
+    closest = surface(u, v)
+    dist_out = np.linalg.norm(closest - P, axis=1)
+    uv = np.stack([u, v], axis=1)
+    if scalar:
+        return uv[0], closest[0], dist_out[0]
+    return uv, closest, dist_out
+
+
+def _surface_newton(surface, P, u, v, dom, iterations, tol, scale):
+    """Newton point inversion from seeds ``(u, v)``: (u, v, squared distances)."""
+    au, bu, av, bv, closed_u, closed_v = dom
+    u, v = u.astype(float).copy(), v.astype(float).copy()
     lu, lv = bu - au, bv - av
     u_prev, v_prev = u.copy(), v.copy()
     d_prev = np.full(P.shape[0], np.inf)
@@ -235,9 +392,11 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
         keep = ~worse
         u_prev[active[keep]], v_prev[active[keep]] = ua[keep], va[keep]
         d_prev[active[keep]] = d[keep]
-        last_u[active], last_v[active] = du, dv
         nu_ = wrap(bu_ + du, au, lu, closed_u)
         nv_ = wrap(bv_ + dv, av, lv, closed_v)
+        # remember the step actually taken (a clipped step is halved from its clipped length)
+        last_u[active] = du if closed_u else nu_ - bu_
+        last_v[active] = dv if closed_v else nv_ - bv_
         mu_ = np.abs(nu_ - ua)
         mv_ = np.abs(nv_ - va)
         if closed_u:
@@ -247,12 +406,8 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
         u[active], v[active] = nu_, nv_
         active = active[np.maximum(mu_ / lu, mv_ / lv) > tol]
     closest = surface(u, v)
-    better = d_prev < dot(closest - P, closest - P)
-    if np.any(better):
-        u[better], v[better] = u_prev[better], v_prev[better]
-        closest[better] = surface(u[better], v[better])
-    dist = np.linalg.norm(closest - P, axis=1)
-    uv = np.stack([u, v], axis=1)
-    if scalar:
-        return uv[0], closest[0], dist[0]
-    return uv, closest, dist
+    d2 = dot(closest - P, closest - P)
+    better = d_prev < d2
+    u[better], v[better] = u_prev[better], v_prev[better]
+    d2[better] = d_prev[better]
+    return u, v, d2

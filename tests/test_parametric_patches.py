@@ -194,3 +194,57 @@ def test_periodic_surface_and_generic_surface_weld():
     assert pts.shape[0] == 8 * 4 + 1
     assert np.sum(counts == 1) == 8            # only the base circle is a boundary
     assert len(pts) - len(und) + len(tris) == 1  # a disc
+
+
+# --------------------------------------------------------------------------- robust projection
+
+def wavy_patch(amplitude=0.3):
+    x = np.linspace(0, 1, 24)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    Z = amplitude * np.sin(6 * np.pi * X) * np.cos(5 * np.pi * Y)
+    from parametric.tensor import BSplineSurface
+    return BSplineSurface(np.stack([X, Y, Z], -1), 3, 3)
+
+
+def test_projection_onto_a_wavy_patch_is_never_worse_than_a_dense_sample():
+    from scipy.spatial import cKDTree
+    from parametric.projection import project_to_surface
+    s = wavy_patch()
+    r = rng(0)
+    P = np.concatenate([r.uniform(-0.2, 1.2, (3000, 2)), r.uniform(-1.5, 1.5, (3000, 1))], 1)
+    uv, X, d = project_to_surface(s, P)
+    t = np.linspace(0, 1, 600)
+    dense, _ = cKDTree(s.grid(t, t).reshape(-1, 3)).query(P)
+    assert np.all(d <= dense + 1e-9)
+    np.testing.assert_allclose(X, s(uv[:, 0], uv[:, 1]), atol=EXACT)
+    np.testing.assert_allclose(d, np.linalg.norm(X - P, axis=1), atol=EXACT)
+    # a single seed is what used to be done: it stops in side valleys
+    _, _, d1 = project_to_surface(s, P, seeds=1)
+    assert np.sum(d1 > dense + 1e-9) > 0
+    assert np.all(d <= d1 + 1e-12)
+
+
+def test_projection_onto_a_wavy_curve_is_never_worse_than_a_dense_sample():
+    from scipy.spatial import cKDTree
+    from parametric.projection import project_to_curve
+    x = np.linspace(0, 1, 40)
+    c = BSpline(np.stack([x, 0.25 * np.sin(9 * np.pi * x)], -1), 3)
+    r = rng(1)
+    P = np.stack([r.uniform(-0.2, 1.2, 4000), r.uniform(-1.0, 1.0, 4000)], 1)
+    dense, _ = cKDTree(c(np.linspace(0, 1, 200_001))).query(P)
+    for samples in (None, 60, 100):  # coarse seed samples: about 13 per wave
+        u, X, d = project_to_curve(c, P, samples=samples)
+        assert np.all(d <= dense + 1e-9)
+        np.testing.assert_allclose(X, c(u), atol=EXACT)
+    u, X, d = project_to_curve(c, P, samples=60)
+    _, _, d1 = project_to_curve(c, P, samples=60, seeds=1)
+    assert np.sum(d1 > dense + 1e-9) > 0
+    assert np.all(d <= d1 + 1e-12)
+
+
+def test_projection_seed_argument_errors():
+    from parametric.projection import project_to_curve, project_to_surface
+    with pytest.raises(ValueError, match="seeds must be >= 1"):
+        project_to_surface(wavy_patch(), [[0.5, 0.5, 1.0]], seeds=0)
+    with pytest.raises(TypeError, match="seeds must be an int"):
+        project_to_curve(BSpline([[0, 0], [1, 1]], 1), [[0.5, 0.0]], seeds=2.5)
