@@ -45,7 +45,7 @@ import warnings
 
 import numpy as np
 
-from .octree import descend, make_lattice
+from .octree import CHILD_OFFSETS, descend, make_lattice
 from .progress import progress_bar
 
 __all__ = ["mesh", "mesh_cells", "mesh_block", "merge_blocks", "empty_mesh", "ZERO_NUDGE", "DEFAULT_BLOCK",
@@ -122,11 +122,36 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
-    result = descend(lattice, keep_leaves=False, stop_level=lattice.depth - 1, progress=progress,
-                     chunk=CLASSIFY_CHUNK)
-    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, result["boundary"], cell_size=2,
-                      refine=refine, progress=progress, evaluations=result["evaluations"], block=block,
-                      _stacklevel=3)
+    cells, centres, evaluations = _boundary_cells_2h(lattice, progress)
+    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, cells, cell_size=2,
+                      refine=refine, progress=progress, evaluations=evaluations, block=block,
+                      centre_values=centres, _stacklevel=3)
+
+
+def _boundary_cells_2h(lattice, progress):
+    """BOUNDARY cells of edge ``2h`` (level ``depth - 1``) and, when known, the field at their centres.
+
+    Levels down to ``depth - 2`` are classified by `Solid.value_bounds`.  When
+    the solid uses the default Lipschitz bound, level ``depth - 1`` is
+    classified by the same test on values sampled at the cell centres --
+    which are lattice nodes, so the mesh reuses them instead of sampling them
+    again.  Returns ``(cells, centre values or None, evaluations)``.
+    """
+    from implicit.solid import Solid
+
+    solid, depth = lattice.solid, lattice.depth
+    if type(solid)._value_bounds is not Solid._value_bounds or depth < 2:
+        result = descend(lattice, keep_leaves=False, stop_level=depth - 1, progress=progress,
+                         chunk=CLASSIFY_CHUNK)
+        return result["boundary"], None, result["evaluations"]
+    result = descend(lattice, keep_leaves=False, stop_level=depth - 2, progress=progress, chunk=CLASSIFY_CHUNK)
+    children = (2 * result["boundary"][:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
+    children = children[np.all(children.astype(np.int64) * 2 < lattice.shape, axis=1)]
+    h = lattice.voxel_size
+    values = _evaluate(solid, lattice.origin + (2 * children + 1) * h)
+    # the default bound: |f(centre)| <= L * half-diagonal (sqrt(3) h) may hold boundary
+    keep = np.abs(values) <= solid.lipschitz * np.sqrt(3.0) * h * (1 + 1e-12)
+    return children[keep], values[keep], result["evaluations"] + int(children.shape[0])
 
 
 def _check_block(block):
@@ -274,7 +299,7 @@ def _evaluate(solid, pts, chunk=EVAL_CHUNK):
 
 
 def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
-               block=DEFAULT_BLOCK, _stacklevel=2):
+               block=DEFAULT_BLOCK, centre_values=None, _stacklevel=2):
     """Mesh the boundary through the given cells of a lattice.
 
     Parameters
@@ -294,6 +319,9 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         See `mesh`.
     evaluations : int
         Evaluations already spent (added to the mesh's count).
+    centre_values : (m,) float, optional
+        The field at the cells' centres when already sampled (``cell_size``
+        2 only): those nodes are not sampled again.
 
     Returns
     -------
@@ -319,9 +347,17 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     per = block // c  # cells per block side
 
     # cells grouped in slabs of `block` voxels along x
+    if centre_values is not None:
+        if c != 2:
+            raise ValueError("centre_values: only for cells of 2 voxels")
+        centre_values = np.asarray(centre_values, dtype=np.float64).reshape(-1)
+        if centre_values.shape[0] != cells.shape[0]:
+            raise ValueError(f"centre_values: expected {cells.shape[0]} values, got {centre_values.shape[0]}")
     slab_of = cells[:, 0] // per
     order = np.argsort(slab_of, kind="stable")
     cells, slab_of = cells[order], slab_of[order]
+    if centre_values is not None:
+        centre_values = _nudge(centre_values[order], h).astype(np.float32)
     del order
     slab_starts = np.flatnonzero(np.r_[True, slab_of[1:] != slab_of[:-1]])
     slab_ends = np.r_[slab_starts[1:], cells.shape[0]]
@@ -334,7 +370,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         for s0, s1 in zip(slab_starts, slab_ends):
             slab = int(slab_of[s0])
             sc = cells[s0:s1]
-            nb, spent, handoff = _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts)
+            given = None if centre_values is None else centre_values[s0:s1]
+            nb, spent, handoff = _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts, given)
             n_blocks += nb
             evaluations += spent
             bar.update()
@@ -370,7 +407,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     return out
 
 
-def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
+def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts, given=None):
     """Sample and mesh one slab of cells (x from ``slab * block`` voxels, ``block`` thick).
 
     The slab's active blocks (those holding cells) are stacked in dense
@@ -378,7 +415,8 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
     surface.  Only nodes of the cells are evaluated, each once: nodes on a
     face shared by two blocks are merged by their integer id, and the lower
     node plane reuses the values the previous slab evaluated for its upper
-    plane (`handoff`: sorted ids and values).  Returns ``(blocks meshed,
+    plane (`handoff`: sorted ids and values).  `given` holds the values at
+    the cells' centres when already sampled.  Returns ``(blocks meshed,
     evaluations, handoff)``.
     """
     B = block
@@ -393,7 +431,8 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
     bys, bzs = np.divmod(keys, nbz)
     cells = np.zeros((nb, P, P, P), dtype=bool)
     cells[inv, sc[:, 0] - slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P] = True
-    del by, bz, inv
+    cell_local = (inv, sc[:, 0] - slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P)
+    del by, bz
     # nodes of the cells: a separable dilation (each axis: repeat c times, OR a shift by one)
     need = cells
     for ax in (1, 2, 3):
@@ -431,6 +470,9 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
         uval[hit] = pval[pos[hit]]
         todo_u[hit] = False
     single = ~maybe
+    if given is not None:
+        # the cells' centres (all-odd local coordinates) are already sampled
+        single &= ~((li & 1).astype(bool) & (lj & 1).astype(bool) & (lk & 1).astype(bool))
     # evaluate the single nodes and the merged nodes not handed over, in one call
     pick = np.concatenate([np.flatnonzero(single), np.flatnonzero(maybe)[ufirst[todo_u]]])
     pts = np.empty((pick.shape[0], 3))
@@ -442,12 +484,16 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts):
     spent = int(pick.shape[0])
     n_single = int(np.count_nonzero(single))
     uval[todo_u] = vals_pick[n_single:]
-    node_vals = np.empty(flat.shape[0])
+    node_vals = np.zeros(flat.shape[0])
     node_vals[single] = vals_pick[:n_single]
     node_vals[maybe] = uval[back]
     del vals_pick, pick
     values = np.ones((nb, B + 1, B + 1, B + 1), dtype=np.float32)
     values.reshape(-1)[flat] = node_vals
+    if given is not None:
+        b_, x_, y_, z_ = cell_local
+        values[b_, 2 * x_ + 1, 2 * y_ + 1, 2 * z_ + 1] = given
+    del cell_local
     # the upper plane goes to the next slab
     top = li == B
     hid, first = np.unique(gid[top], return_index=True)
