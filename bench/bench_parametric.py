@@ -72,6 +72,23 @@ def main(repeat=7):
                  median_time(lambda: project_to_surface(sphere(1.0), Q), max(3, repeat // 2)),
                  None))
 
+    x = np.linspace(0, 1, 24)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    wavy = BSplineSurface(np.stack([X, Y, 0.3 * np.sin(6 * np.pi * X) * np.cos(5 * np.pi * Y)],
+                                   -1), 3, 3)
+    W = np.concatenate([rng.uniform(-0.2, 1.2, (10 ** 5, 2)), rng.uniform(-1.5, 1.5, (10 ** 5, 1))],
+                       1)
+    rows.append(("closest point, 10^5 points well off a wavy 24 x 24 bicubic patch",
+                 median_time(lambda: project_to_surface(wavy, W), max(3, repeat // 2)), 2.0))
+    rows.append(("same, one Newton seed per point (no extra seeds)",
+                 median_time(lambda: project_to_surface(wavy, W, seeds=1), max(3, repeat // 2)),
+                 None))
+    rows.append(("NURBS derivative curve (50 control points, cubic -> degree 6)",
+                 median_time(lambda: curve2.derivative_curve(), repeat), None))
+    ball = sphere(1.0)
+    rows.append(("NURBS sphere tessellation 256 x 256, seams and poles welded",
+                 median_time(lambda: ball.tessellate(256, 256), repeat), None))
+
     th = np.linspace(0, 4 * np.pi, 2000)
     helix = np.stack([np.cos(th), np.sin(th), 0.2 * th], 1)
     rows.append(("fit_curve, 2000 helix points to 1e-4",
