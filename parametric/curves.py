@@ -93,6 +93,18 @@ class Hermite(Curve):
         P0, P1, T0, T1 = self._G
         return Bezier(np.stack([P0, P0 + T0 / 3.0, P1 - T1 / 3.0, P1]))
 
+    def to_bspline(self):
+        """The same curve as a clamped cubic :class:`BSpline` (Bezier knots)."""
+        return self.to_bezier().to_bspline()
+
+    def to_nurbs(self):
+        """The same curve as a cubic :class:`NURBS` with all weights 1."""
+        return self.to_bezier().to_nurbs()
+
+    def derivative_curve(self):
+        """The derivative ``P'(u)`` as a quadratic :class:`Bezier` (the hodograph)."""
+        return self.to_bezier().derivative_curve()
+
     def __repr__(self):
         return f"Hermite(dim={self._dim})"
 

@@ -143,7 +143,9 @@ def test_hermite_bezier_bspline_nurbs_chain_gives_the_same_points():
     bs = bz.to_bspline()
     nu = bs.to_nurbs()
     ref = h(U)
-    for c in (bz, bs, nu, bz.to_nurbs()):
+    assert isinstance(h.to_bspline(), BSpline) and isinstance(h.to_nurbs(), NURBS)
+    np.testing.assert_allclose(h.derivative_curve()(U), h.derivative(U, 1), atol=EXACT * 10)
+    for c in (bz, bs, nu, bz.to_nurbs(), h.to_bspline(), h.to_nurbs()):
         np.testing.assert_allclose(c(U), ref, atol=EXACT)
         np.testing.assert_allclose(c.derivative(U, 1), h.derivative(U, 1), atol=EXACT * 10)
         np.testing.assert_allclose(c.derivative(U, 2), h.derivative(U, 2), atol=EXACT * 100)

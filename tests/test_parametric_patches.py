@@ -248,3 +248,20 @@ def test_projection_seed_argument_errors():
         project_to_surface(wavy_patch(), [[0.5, 0.5, 1.0]], seeds=0)
     with pytest.raises(TypeError, match="seeds must be an int"):
         project_to_curve(BSpline([[0, 0], [1, 1]], 1), [[0.5, 0.0]], seeds=2.5)
+
+
+def test_elevating_a_periodic_surface_direction_keeps_it_closed():
+    from parametric import _ops
+    from parametric.basis import periodic_knots
+    from parametric.tensor import BSplineSurface
+    ang = np.linspace(0, 2 * np.pi, 6, endpoint=False)
+    ring = np.stack([np.cos(ang), np.sin(ang), np.zeros(6)], -1)
+    net = np.stack([ring * (1 + 0.2 * z) + [0, 0, z] for z in (0.0, 1.0, 2.0)], axis=1)
+    tube = BSplineSurface(np.concatenate([net, net[:3]]), 3, 2, periodic_knots(6, 3), None)
+    up = tube.elevate_degree(1, 1)
+    assert (up.degree_u, up.degree_v) == (4, 3)
+    assert _ops.periodic_count(up.knots_u, 4, up.control_points) > 0
+    u, v = rng(8).uniform(0, 1, (2, 300))
+    np.testing.assert_allclose(up(u, v), tube(u, v), atol=EXACT)
+    pts, tris = up.tessellate(13, 4)
+    assert pts.shape[0] == 12 * 4  # still welded along the closed direction
