@@ -64,7 +64,7 @@ def main(argv=None):
         err = 100 * abs(m.volume - 0.98878635) / 0.98878635
         print(f"{size:6.3f} {q.n_elements:8d} {q.n_nodes:8d} {ts:7.2f} {tt:7.2f} {ts + tt:8.2f} {q.min_dihedral:8.2f} "
               f"{q.max_dihedral:8.2f} {q.dihedral_p1:7.2f} {q.max_radius_edge:8.2f} {q.min_scaled_jacobian:7.3f} "
-              f"{err:9.3f} {m.surface_deviation:9.2e}")
+              f"{err:9.4f} {m.surface_deviation:9.2e}")
         for msg in msgs:
             print(f"       warning: {msg}")
     print()
@@ -77,7 +77,7 @@ def main(argv=None):
         err = 100 * abs(m.volume - volume) / volume
         ok = q.min_dihedral >= 10 and q.max_dihedral <= 165 and q.min_scaled_jacobian > 0 and err < 0.5
         print(f"{name:<15} {size:6.3f} {q.n_elements:8d} {ts + tt:6.2f} {q.min_dihedral:8.2f} {q.max_dihedral:8.2f} "
-              f"{q.min_scaled_jacobian:7.3f} {err:9.3f} {surface_quality(surf).min_angle:12.1f} {'met' if ok else 'MISSED':>8}")
+              f"{q.min_scaled_jacobian:7.3f} {err:9.4f} {surface_quality(surf).min_angle:12.1f} {'met' if ok else 'MISSED':>8}")
     print()
     print("quality of the benchmark part at size 0.05")
     print(run(BENCH, 0.05, args.order)[1].quality.table())
