@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.linalg import solve_banded
+from scipy.special import comb
 
 from .basis import (KNOT_TOL, basis_funs, basis_matrix, ders_basis_funs, find_span,
                     greville)
@@ -520,8 +521,6 @@ def bezier_product(F, G):
     trailing shapes broadcast); the product has degree ``m + n``:
     ``H_k = sum_{i + j = k} C(m, i) C(n, j) / C(m + n, k) F_i G_j``.
     """
-    from scipy.special import comb
-
     m, n = F.shape[1] - 1, G.shape[1] - 1
     shape = np.broadcast_shapes(F.shape[2:], G.shape[2:])
     H = np.zeros((F.shape[0], m + n + 1) + shape)
