@@ -457,12 +457,14 @@ def _snap_corners(ff: FacetField, points, faces, size, tol):
 def _flip_across_features(ff: FacetField, points, faces, fixed):
     """Flip edges that cross a feature curve between two vertices lying on it.
 
-    An edge ``(a, b)`` whose ends are decided by different facets, and whose
-    two opposite vertices ``c``, ``d`` both sit on a feature curve, is
-    replaced by ``(c, d)``, which then runs along the feature.  Flips that
-    would fold a triangle are skipped.  Returns new faces.
+    An edge ``(a, b)`` whose ends are decided by different facets and do not
+    lie together on one feature, and whose two opposite vertices ``c``, ``d``
+    lie together on one feature curve (two common facets), is replaced by
+    ``(c, d)``, which then runs along the feature.  Flips that would fold a
+    triangle are skipped.  Returns new faces.
     """
-    _, dec, _ = ff(points)
+    _, dec, fv = ff(points)
+    near = np.abs(fv) < 1e-7 * max(float(np.ptp(points, axis=0).max()), 1.0)
     m = len(faces)
     he_a = faces.reshape(-1)
     he_b = faces[:, [1, 2, 0]].reshape(-1)
@@ -475,7 +477,9 @@ def _flip_across_features(ff: FacetField, points, faces, fixed):
     h1, h2 = order[pair], order[pair + 1]
     a, b, c, d = he_a[h1], he_b[h1], he_c[h1], he_c[h2]
     f1, f2 = he_f[h1], he_f[h2]
-    cand = (dec[a] != dec[b]) & ~fixed[a] & ~fixed[b] & fixed[c] & fixed[d] & (c != d)
+    along_ab = (near[:, a] & near[:, b]).sum(axis=0) >= 2
+    along_cd = (near[:, c] & near[:, d]).sum(axis=0) >= 2
+    cand = (dec[a] != dec[b]) & ~along_ab & along_cd & fixed[c] & fixed[d] & (c != d)
     a, b, c, d, f1, f2 = (x[cand] for x in (a, b, c, d, f1, f2))
     # One flip per face.
     used = np.concatenate([f1, f2])
@@ -492,7 +496,7 @@ def _flip_across_features(ff: FacetField, points, faces, fixed):
     t2 = np.stack([d, b, c], axis=1)
     ref = n_old[f1] + n_old[f2]
     ok = (np.einsum("ij,ij->i", _normals(points, t1), ref) > 0) & (np.einsum("ij,ij->i", _normals(points, t2), ref) > 0)
-    ok &= (_triangle_angles(points, t1).min(axis=1) > SNAP_MIN_ANGLE / 2) & (_triangle_angles(points, t2).min(axis=1) > SNAP_MIN_ANGLE / 2)
+    ok &= (_triangle_angles(points, t1).min(axis=1) > SNAP_MIN_ANGLE) & (_triangle_angles(points, t2).min(axis=1) > SNAP_MIN_ANGLE)
     out = faces.copy()
     out[f1[ok]] = t1[ok]
     out[f2[ok]] = t2[ok]
@@ -680,6 +684,7 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         if count:
             _, _, fv = ff(pts)
             fixed = (np.abs(fv) < tol).sum(axis=0) >= 2
+            faces = _flip_across_features(ff, pts, faces, fixed)
             pts = _tangential_relax(solid, pts, faces, fixed)
     result = _polydata(pts, faces)
     result.field_data["snapped_vertices"] = np.array([snapped])
