@@ -173,6 +173,16 @@ def test_surface_keeps_box_corners_and_hole_rims():
     assert rim.sum() >= 2 * 12
 
 
+def test_surface_for_fea_of_a_bare_mesh():
+    raw = pv.Sphere(radius=2.0, theta_resolution=80, phi_resolution=80)
+    s = surface_for_fea(raw, size=0.4)
+    q = surface_quality(s)
+    assert q.closed and q.min_angle > 20.0 and s.volume > 0
+    assert "max_deviation" not in s.field_data
+    # Without a solid the points stay on the input surface (pyacvd moves them there).
+    np.testing.assert_allclose(np.linalg.norm(s.points, axis=1), 2.0, atol=0.01)
+
+
 def test_self_intersections_are_detected():
     a = pv.Sphere(radius=1.0).triangulate()
     b = pv.Sphere(radius=1.0, center=(0.5, 0, 0)).triangulate()
