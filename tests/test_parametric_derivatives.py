@@ -184,3 +184,16 @@ def test_bspline_surface_to_nurbs_same_points():
     np.testing.assert_allclose(s.to_nurbs()(u, v), s(u, v), atol=EXACT)
     np.testing.assert_allclose(s.to_nurbs().derivatives(u, v, 2), s.derivatives(u, v, 2),
                                atol=1e-10)
+
+
+def test_derivative_curve_of_a_periodic_nurbs_on_another_domain():
+    r = np.random.default_rng(3)
+    c = NURBS.periodic(r.normal(size=(7, 3)), r.uniform(0.5, 2.0, 7), 3, domain=(2.0, 5.0))
+    d = c.derivative_curve()
+    u = np.linspace(2.0, 5.0, 301)
+    assert d.domain == pytest.approx((2.0, 5.0))
+    np.testing.assert_allclose(d(u), c.derivative(u), atol=1e-12 * np.abs(d(u)).max())
+    np.testing.assert_allclose(d.derivative(u), c.derivative(u, 2),
+                               atol=1e-12 * np.abs(c.derivative(u, 2)).max())
+    # the derivative of a closed C^2 curve closes too
+    np.testing.assert_allclose(d(2.0), d(5.0), atol=1e-12 * np.abs(d(u)).max())
