@@ -40,8 +40,20 @@ def _centre(rng):
     return tuple(c)
 
 
+class _Blob(Solid):
+    """A node kind without a fast-path rule (a sphere of radius 1)."""
+
+    __slots__ = ()
+
+    def __init__(self):
+        super().__init__((), {}, (-np.ones(3), np.ones(3)), exact=True)
+
+    def _evaluate(self, p):
+        return np.sqrt(np.einsum("ij,ij->i", p, p)) - 1.0
+
+
 def _leaf(rng) -> Solid:
-    kind = rng.integers(11)
+    kind = rng.integers(12)
     if kind == 0:
         return halfspace(tuple(rng.normal(size=3)), _centre(rng))
     if kind == 1:
@@ -66,9 +78,12 @@ def _leaf(rng) -> Solid:
         a = _centre(rng)
         b = a if rng.random() < 0.2 else _centre(rng)  # a ball when a == b
         return capsule(a, b, rng.uniform(0.1, 0.8))
-    # A part family instance (a whole tree under one node), scaled to size.
-    name = ("l_bracket", "hole_plate", "flanged_pipe")[rng.integers(3)]
-    return instance(name).scale(0.02)
+    if kind == 10:
+        # A part family instance (a whole tree under one node), scaled to size.
+        name = ("l_bracket", "hole_plate", "flanged_pipe")[rng.integers(3)]
+        return instance(name).scale(0.02)
+    # A kind without a rule: evaluated by numpy as an input of the tape.
+    return _Blob().scale(rng.uniform(0.3, 1.0)).translate(_centre(rng))
 
 
 def random_tree(rng, depth: int = 3) -> Solid:
@@ -256,26 +271,51 @@ def test_parallel_kernel_matches():
     np.testing.assert_allclose(compiled(pts, prune=False), ref, rtol=TOL, atol=TOL)
 
 
-class _Blob(Solid):
-    """A node kind without a fast-path rule (a sphere of radius 1)."""
+def test_unknown_kind_is_evaluated_by_numpy_where_the_tape_reads_it(monkeypatch):
+    blob = _Blob()
+    part = union(blob.rotate(30.0, (1, 1, 0)).translate((2.5, 0.0, 0.0)), box(1.0), sphere(0.5, (-2.0, 0.0, 0.0)))
+    compiled = compile_solid(part)
+    assert compiled.backend == "numba" and [n for n, _ in compiled.tape.opaque] == [blob]
+    assert not fast.supports(part) and fast.supports(box(1.0))
+    pts = np.random.default_rng(2).uniform(-1.0, 1.0, (60000, 3)) * (4.0, 0.8, 0.8)
+    ref = fast._numpy_evaluate(part, pts)
+    calls = []
+    monkeypatch.setattr(_Blob, "_evaluate", lambda self, p: calls.append(len(p)) or _sphere_values(p))
+    np.testing.assert_allclose(compiled(pts, prune=False), ref, rtol=TOL, atol=TOL)
+    assert sum(calls) == len(pts)
+    calls.clear()
+    np.testing.assert_allclose(compiled(pts, prune=True), ref, rtol=TOL, atol=TOL)
+    # Pruned: the bin centres, then only the points of bins where the blob
+    # can change the union.
+    assert 0 < sum(calls) < 0.5 * len(pts)
+
+
+def _sphere_values(p):
+    return np.sqrt(np.einsum("ij,ij->i", p, p)) - 1.0
+
+
+class _Swap(Solid):
+    """The child with x and y exchanged (a test node whose rule declares no
+    numpy map for its coordinates)."""
 
     __slots__ = ()
 
-    def __init__(self):
-        super().__init__((), {}, (-np.ones(3), np.ones(3)), exact=True)
+    def __init__(self, child):
+        super().__init__((child,), {}, child.bounds, exact=child.exact)
 
     def _evaluate(self, p):
-        return np.sqrt(np.einsum("ij,ij->i", p, p)) - 1.0
+        return self._children[0]._evaluate(np.ascontiguousarray(p[:, [1, 0, 2]]))
 
 
-def test_unknown_kind_falls_back_to_numpy_identically():
-    part = union(_Blob().translate((0.5, 0.0, 0.0)), box(1.0))
-    compiled = compile_solid(part)
+def test_unknown_kind_below_undeclared_coordinates_falls_back_to_numpy(monkeypatch):
+    monkeypatch.setitem(fast.RULES, _Swap, lambda node, gen, c: gen.node(node.children[0], (c[1], c[0], c[2])))
+    part = union(_Swap(_Blob().translate((0.5, 0.0, 0.0))), box(1.0))
+    compiled = fast.CompiledSolid(part)
     assert compiled.backend == "numpy"
-    assert not fast.supports(part) and fast.supports(box(1.0))
     pts = np.random.default_rng(2).uniform(-2, 2, (fast.AUTO_MIN_POINTS + 7, 3))
     assert np.array_equal(compiled(pts), fast._numpy_evaluate(part, pts))
-    assert np.array_equal(part(pts), fast._numpy_evaluate(part, pts))
+    # With a rule-less kind but known coordinates, the same tree compiles.
+    assert fast.CompiledSolid(_Swap(box(1.0))).backend == "numba"
 
 
 def test_a_new_kind_joins_the_fast_path_by_a_rule(monkeypatch):
