@@ -131,20 +131,27 @@ def _write_gmsh(mesh, path, version):
 
     tri_type, tri = _boundary_cells(mesh)
     region, names = _region_ids(mesh)
-    cells = [(_cell_type(mesh), np.asarray(mesh.tets)), (tri_type, tri)]
     vol_tag = len(names) + 1
+    # One cell block per boundary region: Gmsh 4 writes one entity per block.
+    cells = [(_cell_type(mesh), np.asarray(mesh.tets))]
+    phys = [np.full(len(mesh.tets), vol_tag, dtype=np.int64)]
+    geom = [np.ones(len(mesh.tets), dtype=np.int64)]
+    for r in np.unique(region):
+        sel = tri[region == r]
+        cells.append((tri_type, sel))
+        phys.append(np.full(len(sel), r, dtype=np.int64))
+        geom.append(np.full(len(sel), r, dtype=np.int64))
     field_data = {set_name(k): np.array([i + 1, 2]) for i, k in enumerate(names)}
     field_data["volume"] = np.array([vol_tag, 3])
-    phys = [np.full(len(mesh.tets), vol_tag, dtype=np.int64), region]
-    geom = [np.ones(len(mesh.tets), dtype=np.int64), region]
-    # Gmsh 4 classifies every node on an entity: the volume, or the boundary region of one of
-    # its faces (meshio then writes the nodes grouped by entity, so their order changes).
-    dim_tags = np.tile(np.array([3, 1], dtype=np.int64), (len(mesh.points), 1))
-    dim_tags[tri.reshape(-1)] = np.stack([np.full(tri.size, 2), np.repeat(region, tri.shape[1])], axis=1)
-    m = meshio.Mesh(np.asarray(mesh.points), cells,
-                    cell_data={"gmsh:physical": phys, "gmsh:geometrical": geom},
-                    point_data={"gmsh:dim_tags": dim_tags} if version != "2.2" else {},
-                    field_data=field_data)
+    point_data = {}
+    if version != "2.2":
+        # Gmsh 4 classifies every node on an entity: the volume, or the boundary region of one
+        # of its faces (meshio then writes the nodes grouped by entity, so their order changes).
+        dim_tags = np.tile(np.array([3, 1], dtype=np.int64), (len(mesh.points), 1))
+        dim_tags[tri.reshape(-1)] = np.stack([np.full(tri.size, 2), np.repeat(region, tri.shape[1])], axis=1)
+        point_data["gmsh:dim_tags"] = dim_tags
+    m = meshio.Mesh(np.asarray(mesh.points), cells, cell_data={"gmsh:physical": phys, "gmsh:geometrical": geom},
+                    point_data=point_data, field_data=field_data)
     fmt = "gmsh22" if version == "2.2" else "gmsh"
     _atomic(path, lambda tmp: meshio.write(tmp, m, file_format=fmt, binary=False))
 

@@ -329,6 +329,10 @@ def test_files_read_back(tmp_path, bench_tets, name, version):
         assert "cylinder_2_wall" in back.field_data
         tri = [c.data for c in back.cells if c.type == "triangle"]
         assert sum(len(t) for t in tri) == len(bench_tets.boundary)
+        # Each physical group holds its region's triangles.
+        tag = back.field_data["cylinder_2_wall"][0]
+        phys = np.concatenate([p for c, p in zip(back.cells, back.cell_data["gmsh:physical"]) if c.type == "triangle"])
+        assert np.sum(phys == tag) == len(bench_tets.face_sets["cylinder_2.wall"])
     assert [p.name for p in tmp_path.iterdir()] == [name]  # no temporary left behind
 
 
