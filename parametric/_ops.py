@@ -546,10 +546,29 @@ def rational_derivative(U, p, Pw, tol):
         If the derivative jumps at a knot of multiplicity ``p`` (it is then no
         single curve).
 
+    A wrapped periodic curve (:func:`periodic_count`) whose knots are all of
+    multiplicity below ``p`` gives a periodic derivative: the homogeneous
+    ``(A' w - A w', w^2)`` is collocated on the folded periodic basis of
+    degree ``2 p`` with multiplicities ``p + m + 1``.
+
     Returns
     -------
     (U', Qw) with ``Qw`` of shape ``(n', dim + 1)``.
     """
+    k = periodic_count(U, p, Pw)
+    if k:
+        a, b = domain(U, p)
+        inside = U[(U >= a) & (U < b)]
+        vals, counts = np.unique(inside, return_counts=True)
+        if np.all(counts < p):
+            def homogeneous(x):
+                H = eval_derivs(U, p, Pw, x, 1)
+                A, A1, w, w1 = H[:, 0, :-1], H[:, 1, :-1], H[:, 0, -1:], H[:, 1, -1:]
+                return np.concatenate([A1 * w - A * w1, w * w], axis=1)
+
+            Un = periodic_knots_from(vals, counts + p + 1, 2 * p, a, b)
+            K = int(np.sum(counts + p + 1))
+            return Un, fold_collocate(homogeneous, Un, 2 * p, K)
     segs = bezier_segments(U, p, Pw)
     a = np.array([s[0] for s in segs])
     b = np.array([s[1] for s in segs])

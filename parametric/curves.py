@@ -472,7 +472,8 @@ class NURBS(BSpline):
         multiplicity ``p + m + 1`` (the derivative is ``C^(p - m - 1)`` there),
         the surplus being removed within ``tol`` (relative; rounding only).
         The result is again a NURBS, so derivatives of any order follow by
-        calling this method again.
+        calling this method again. The derivative of a periodic curve (see
+        :meth:`periodic`) without knots of multiplicity ``p`` is periodic too.
 
         Raises
         ------

@@ -195,5 +195,11 @@ def test_derivative_curve_of_a_periodic_nurbs_on_another_domain():
     np.testing.assert_allclose(d(u), c.derivative(u), atol=1e-12 * np.abs(d(u)).max())
     np.testing.assert_allclose(d.derivative(u), c.derivative(u, 2),
                                atol=1e-12 * np.abs(c.derivative(u, 2)).max())
-    # the derivative of a closed C^2 curve closes too
+    # the derivative of a closed C^2 curve is periodic again (wrapped form)
+    from parametric import _ops
     np.testing.assert_allclose(d(2.0), d(5.0), atol=1e-12 * np.abs(d(u)).max())
+    assert _ops.periodic_count(d.knots, d.degree, d.homogeneous) == 7 * 5
+    assert np.all(d.weights > 0)
+    dd = d.derivative_curve()  # C' is C^1: its derivative is one curve, periodic again
+    np.testing.assert_allclose(dd(u), c.derivative(u, 2),
+                               atol=1e-11 * np.abs(c.derivative(u, 2)).max())
