@@ -297,13 +297,13 @@ def _project_midnodes(solid, ff, points, tets10, boundary, n_corner, size):
     on_both = (np.abs(fa) < tol) & (np.abs(fb) < tol)  # (k, e)
     feature = on_both.sum(axis=0) >= 2
     if feature.any():
-        from .fea_surface import _solve_on_facets
+        from .fea_facets import solve_on_facets
 
         ii = np.nonzero(feature)[0]
         sets = np.full((ii.size, 2), -1, dtype=np.int64)
         order = np.argsort(~on_both[:, ii], axis=0, kind="stable")[:2].T
         sets[:] = order
-        snapped = _solve_on_facets(ff, start[ii], sets)
+        snapped = solve_on_facets(ff, start[ii], sets)
         good = (np.linalg.norm(snapped - start[ii], axis=1) < size) & np.isfinite(snapped).all(axis=1)
         moved[ii[good]] = snapped[good]
     pts[mids] = moved
