@@ -488,7 +488,8 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts, giv
     node_vals[single] = vals_pick[:n_single]
     node_vals[maybe] = uval[back]
     del vals_pick, pick
-    values = np.ones((nb, B + 1, B + 1, B + 1), dtype=np.float32)
+    # only needed nodes are read (each block sets its other nodes to 1 below)
+    values = np.empty((nb, B + 1, B + 1, B + 1), dtype=np.float32)
     values.reshape(-1)[flat] = node_vals
     if given is not None:
         b_, x_, y_, z_ = cell_local
@@ -511,8 +512,9 @@ def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts, giv
         if c > 1:
             cb = np.repeat(np.repeat(np.repeat(cb, c, 0), c, 1), c, 2)
         xs, ys, zs = box_lo[0] * c, box_lo[1] * c, box_lo[2] * c
-        vol = np.ascontiguousarray(values[b, xs:xs + cb.shape[0] + 1, ys:ys + cb.shape[1] + 1,
-                                          zs:zs + cb.shape[2] + 1])
+        box = (b, slice(xs, xs + cb.shape[0] + 1), slice(ys, ys + cb.shape[1] + 1), slice(zs, zs + cb.shape[2] + 1))
+        vol = np.ascontiguousarray(values[box])
+        vol[~need[box]] = 1.0
         mask = np.zeros(vol.shape, dtype=bool)
         mask[1:, 1:, 1:] = cb
         node, axis, f0, f1, faces = mesh_block(vol, mask)
