@@ -130,7 +130,7 @@ def project_to_curve(curve, points, *, samples=None, iterations=30, tol=PROJECTI
             local = np.ones(rows.size, bool)
             for step in (-1, 1):
                 ni = (ci + step) % (n - 1) if closed else np.clip(ci + step, 0, n - 1)
-                local &= dist[rows, cols] <= np.linalg.norm(pts[ni] - P[rows], axis=1)
+                local &= dist[rows, cols] <= np.linalg.norm(pts[ni] - P[rows], axis=1) * (1 + 1e-12)
             cand[rows[~local], cols[~local]] = False
         pi, cj = np.nonzero(cand)
         if pi.size:
@@ -293,20 +293,19 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
         cand[:, 0] = False
         # a separate basin shows as a discrete local minimum of the sampled distance
         rows, cols = np.nonzero(cand)
-        if rows.size:
-            ci, cj_ = iu[rows, cols], iv[rows, cols]
-            dc0 = dist[rows, cols]
-            local = np.ones(rows.size, bool)
-            for di in (-1, 0, 1):
-                for dj in (-1, 0, 1):
-                    if di == 0 and dj == 0:
-                        continue
-                    ni, nj = ci + di, cj_ + dj
-                    ni = ni % (ns_u - 1) if closed_u else np.clip(ni, 0, ns_u - 1)
-                    nj = nj % (ns_v - 1) if closed_v else np.clip(nj, 0, ns_v - 1)
-                    dn = np.linalg.norm(grid[ni, nj] - P[rows], axis=1)
-                    local &= dc0 <= dn
-            cand[rows[~local], cols[~local]] = False
+        cand[:] = False
+        ci, cj_ = iu[rows, cols], iv[rows, cols]
+        d0 = dist[rows, cols] ** 2
+        for di, dj in ((-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)):
+            if not rows.size:
+                break
+            ni, nj = ci + di, cj_ + dj
+            ni = ni % (ns_u - 1) if closed_u else np.clip(ni, 0, ns_u - 1)
+            nj = nj % (ns_v - 1) if closed_v else np.clip(nj, 0, ns_v - 1)
+            r_ = flat[ni * ns_v + nj] - P[rows]
+            ok = d0 <= np.einsum("nd,nd->n", r_, r_) * (1.0 + 1e-12)  # ties (clipped) pass
+            rows, cols, ci, cj_, d0 = rows[ok], cols[ok], ci[ok], cj_[ok], d0[ok]
+        cand[rows, cols] = True
         pi, cj = np.nonzero(cand)
         if pi.size:
             sel_idx = idx[pi, cj]
