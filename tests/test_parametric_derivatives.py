@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from parametric.conics import circle, ellipse
-from parametric.curves import NURBS, Bezier, BSpline, FunctionCurve, Hermite
+from parametric.curves import NURBS, BSpline, FunctionCurve, Hermite
 from parametric.surfaces import Surface
 from parametric.tensor import BSplineSurface
 
