@@ -17,7 +17,10 @@ and smoothing", IJNME 40, 1997 (optimisation-based smoothing).
 
 from __future__ import annotations
 
+import os
+import tempfile
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -45,6 +48,19 @@ _REGULAR_VOLUME = 1.0 / (6.0 * np.sqrt(2.0))
 #: Without it TetGen splits boundary triangles and leaves flat slivers on the boundary
 #: (274 elements under 5 degrees on a torus at size 0.08, none with it).
 _KEEP_SURFACE = "Y"
+
+
+@contextmanager
+def _scratch_directory():
+    """Run in a temporary working directory: TetGen drops files such as
+    ``tetgen-tmpfile_skipped.node`` into the current one when it gives up on faces."""
+    old = os.getcwd()
+    with tempfile.TemporaryDirectory(prefix="implicad-tetgen-") as tmp:
+        os.chdir(tmp)
+        try:
+            yield
+        finally:
+            os.chdir(old)
 
 
 class MeshQualityWarning(UserWarning):
@@ -460,7 +476,8 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
     switches = (f"pq{radius_edge:g}/{min_dihedral:g}a{_REGULAR_VOLUME * size**3:.6g}"
                 f"o/{max_dihedral:g}O9/7S{cap}{_KEEP_SURFACE}Q")
     try:
-        nodes, elems, *_ = tg.tetrahedralize(switches=switches)
+        with _scratch_directory():
+            nodes, elems, *_ = tg.tetrahedralize(switches=switches)
     except RuntimeError as exc:
         raise ValueError(f"surface: TetGen could not mesh it ({exc}); is it closed and free of "
                          "self-intersections (see self_intersections)?") from exc
