@@ -135,6 +135,10 @@ def scaled_jacobian(points, tets) -> np.ndarray:
 class TetQuality:
     """Quality figures of a tetrahedral mesh.
 
+    Dihedral angles and radius-edge ratios are those of the corner
+    tetrahedra; for 10-node elements the scaled Jacobian and the volume
+    account for the curved shape.
+
     Attributes
     ----------
     n_nodes, n_elements : int
