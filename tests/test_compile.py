@@ -361,3 +361,15 @@ def test_points_on_a_plane_are_binned_in_two_dimensions():
     pts = np.column_stack([xy, np.full(len(xy), 0.25)])
     np.testing.assert_allclose(compile_solid(part)(pts, prune=True), fast._numpy_evaluate(part, pts),
                                rtol=TOL, atol=TOL)
+
+
+def test_calls_from_several_threads_at_once():
+    from concurrent.futures import ThreadPoolExecutor
+    part = _plate()
+    compiled = compile_solid(part)
+    rng = np.random.default_rng(10)
+    batches = [rng.uniform(-5, 5, (20000 + 1000 * i, 3)) for i in range(6)]
+    with ThreadPoolExecutor(3) as pool:
+        results = list(pool.map(lambda p: compiled(p, prune=True), batches))
+    for pts, values in zip(batches, results):
+        np.testing.assert_allclose(values, fast._numpy_evaluate(part, pts), rtol=TOL, atol=TOL)
