@@ -658,29 +658,9 @@ class Tape:
         Prunable nodes with the store slot of each operand.
     opaque : list of (node, maps)
         Nodes of kinds without a rule, read as input columns.
+    input_flags : list of (f,) int64
+        For every input, the flags whose skips enclose it.
     """
-
-    def inputs(self, points: np.ndarray, starts=None, active=None) -> np.ndarray:
-        """Input columns ``(len(opaque), n)`` at `points` (n, 3): each node's
-        own evaluation at the coordinates numpy's evaluation gives it.
-
-        With bins (`starts`, `active` flags) a column is filled only in the
-        bins where its node is reached (elsewhere it is 0 and never read).
-        """
-        if not self.opaque:
-            return _NO_INPUT
-        n = points.shape[0]
-        cols = np.zeros((len(self.opaque), n))
-        for i, (node, maps) in enumerate(self.opaque):
-            rows = slice(None)
-            if active is not None and len(self.input_flags[i]):
-                need = active[:, self.input_flags[i]].all(axis=1)
-                rows = np.repeat(need, np.diff(starts))
-            q = points[rows]
-            for func in maps:
-                q = func(q)
-            cols[i, rows] = _numpy_evaluate(node, np.ascontiguousarray(q))
-        return cols
 
     __slots__ = ("code", "record", "consts", "flags", "groups", "result", "nreg", "nstore", "opaque",
                  "input_flags")
@@ -707,6 +687,30 @@ class Tape:
                 open_skips.append((int(row[2]), int(row[3])))
             elif row[0] == _INPUT:
                 self.input_flags[int(row[3])] = np.array([f for f, _ in open_skips], dtype=np.int64)
+
+    def inputs(self, points: np.ndarray, starts=None, active=None) -> np.ndarray:
+        """Input columns ``(len(opaque), n)`` at `points` (n, 3): each node's
+        own evaluation at the coordinates numpy's evaluation gives it.
+
+        With bins (`starts`, `active` flags) a column is filled only in the
+        bins where its node is reached (elsewhere it is 0 and never read).
+        """
+        if not self.opaque:
+            return _NO_INPUT
+        n = points.shape[0]
+        cols = np.zeros((len(self.opaque), n))
+        for i, (node, maps) in enumerate(self.opaque):
+            rows = slice(None)
+            if active is not None and len(self.input_flags[i]):
+                need = active[:, self.input_flags[i]].all(axis=1)
+                if not need.any():
+                    continue
+                rows = np.repeat(need, np.diff(starts))
+            q = points[rows]
+            for func in maps:
+                q = func(q)
+            cols[i, rows] = _numpy_evaluate(node, np.ascontiguousarray(q))
+        return cols
 
     def __len__(self) -> int:
         return len(self.code)
@@ -954,9 +958,8 @@ def _build_kernels(numba):
 
 
 def _kernel(name: str):
-    """The compiled kernel `name` ("serial", "parallel", "bin", "bounds",
-    "unsort"), or None
-    when numba is not importable."""
+    """The compiled kernel `name` ("serial", "parallel", "bin", "bounds" or
+    "unsort"), or None when numba is not importable."""
     kernel = _KERNELS.get(name)
     if kernel is not None:
         return kernel
