@@ -15,7 +15,11 @@ Rows (median of several runs, each on the same points):
 * tape            - the numba tape interpreter, no pruning
 * tape + pruning  - binned points, operands switched off per bin (the default
                     of ``solid(points)`` from 100k points)
-* ... 2 threads   - the same with ``prange`` over bins on two cores
+* ... 2 threads   - the same on two cores (pruned: each thread bins and
+                    evaluates half of the points; unpruned: ``prange``)
+
+Also: the plate with a rotated wedge added, a kind without a fast-path rule
+(evaluated by numpy as an input column of the tape).
 
 Run: ``.venv/bin/python bench/bench_eval.py [--runs 7] [--points 1000000]``
 """
@@ -34,6 +38,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 
 from implicit import (box, cone, cylinder, difference, rounded_box, smooth_union,  # noqa: E402
                       torus)
+from implicit.polyhedra import wedge  # noqa: E402
 from implicit import compile as fast  # noqa: E402
 from implicit import solid as solid_module  # noqa: E402
 
@@ -183,9 +188,25 @@ def main(argv=None) -> int:
     near = near[rng.integers(0, near.shape[0], n)] + rng.normal(0, 1e-3, (n, 3))
     near = np.ascontiguousarray(near)
 
+    # A kind without a fast-path rule: a rotated wedge joined to the body is
+    # evaluated by numpy as an input of the tape, in the bins that read it.
+    body, *tools = part.children
+    ribbed = difference(smooth_union(body, wedge((1.0, 0.4, 0.8), (2.0, -0.2, 0.3)).rotate(30.0, (0, 0, 1)),
+                                     blend=0.1), *tools)
+    fast_ribbed = fast.compile_solid(ribbed)
+    ref = fast._numpy_evaluate(ribbed, uniform)
+    assert np.abs(fast_ribbed(uniform) - ref).max() <= 1e-12
+    print(f"plate + rotated wedge ({ribbed.count_nodes()} nodes, {len(fast_ribbed.tape.opaque)} numpy input), "
+          "uniform points, wall and core M/s:")
+    for name, func, runs in (("  Solid numpy", lambda p: fast._numpy_evaluate(ribbed, p), args.slow_runs),
+                             ("  tape + pruning, 1 core", fast_ribbed, args.runs)):
+        uw, uc = median_rate(func, uniform, runs)
+        print(f"{name:36s} {uw / 1e6:12.2f} {uc / 1e6:6.2f}", flush=True)
+
     ref_u = fast._numpy_evaluate(part, uniform)
     err = np.abs(hand_numpy(uniform) - ref_u).max()
-    parallel = fast.compile_solid(part, parallel=True)
+    # Threads of the parallel kernel spin for a while after use: its rows come last.
+    parallel = fast.compile_solid(part, parallel=True, warm=False)
     rows = [
         ("hand numpy (whole arrays)", hand_numpy, args.slow_runs),
         ("Solid numpy, chunk 32768 (before)", numpy_chunked(part, 32768), args.slow_runs),
@@ -211,6 +232,7 @@ def main(argv=None) -> int:
             diff = np.abs(func(pts) - ref).max()
             assert diff <= 1e-12, diff
     print("compiled results equal the numpy evaluation to 1e-12")
+
     return 0
 
 
