@@ -146,9 +146,12 @@ def _boundary_cells_2h(lattice, progress):
         return result["boundary"], None, result["evaluations"]
     result = descend(lattice, keep_leaves=False, stop_level=depth - 2, progress=progress, chunk=CLASSIFY_CHUNK)
     children = (2 * result["boundary"][:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
-    children = children[np.all(children.astype(np.int64) * 2 < lattice.shape, axis=1)]
+    limit = (-(-lattice.shape // 2)).astype(np.int32)
+    children = children[(children < limit).all(axis=1)]
     h = lattice.voxel_size
-    values = _evaluate(solid, lattice.origin + (2 * children + 1) * h)
+    values = np.empty(children.shape[0])
+    for a in range(0, children.shape[0], EVAL_CHUNK):
+        values[a:a + EVAL_CHUNK] = solid(lattice.origin + (2 * children[a:a + EVAL_CHUNK] + 1) * h)
     # the default bound: |f(centre)| <= L * half-diagonal (sqrt(3) h) may hold boundary
     keep = np.abs(values) <= solid.lipschitz * np.sqrt(3.0) * h * (1 + 1e-12)
     return children[keep], values[keep], result["evaluations"] + int(children.shape[0])
