@@ -13,7 +13,7 @@ only by the functions that need it.  Note that ``copyToArray`` /
 from __future__ import annotations
 
 import os
-import tempfile
+import uuid
 
 import numpy as np
 
@@ -45,13 +45,17 @@ def mesh_format(path) -> str:
 
 
 def _atomic_write(path, write, suffix):
-    """Call ``write(tmp_path)`` then rename the temporary file onto `path`."""
+    """Call ``write(tmp_path)`` then rename the temporary file onto `path`.
+
+    The temporary name lives in the destination's directory (so the rename is
+    atomic) and is created by the writer itself, so the file gets the usual
+    permissions (umask) rather than a private temporary file's.
+    """
     path = os.fspath(path)
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
         raise FileNotFoundError(2, "No such directory", directory)
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=suffix, dir=directory)
-    os.close(fd)
+    tmp = os.path.join(directory, f".{os.path.basename(path)}.{uuid.uuid4().hex}.tmp{suffix}")
     try:
         write(tmp)
         os.replace(tmp, path)

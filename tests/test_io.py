@@ -30,9 +30,12 @@ def test_round_trip_every_format(tmp_path, ball, ext):
     assert back.volume == pytest.approx(ball.volume, rel=1e-5)
 
 
-def test_stl_is_binary(tmp_path, ball):
+def test_stl_is_binary_with_usual_permissions(tmp_path, ball):
     path = save_mesh(ball, tmp_path / "ball.STL")
     assert os.path.getsize(path) == 84 + 50 * ball.n_cells
+    plain = tmp_path / "plain"
+    plain.write_bytes(b"")
+    assert os.stat(path).st_mode == os.stat(plain).st_mode
 
 
 def test_unknown_extension_refused_before_work(tmp_path):
