@@ -105,8 +105,8 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     -------
     pyvista.PolyData
         Triangles; ``field_data`` holds ``voxel_size``, ``evaluations``
-        (boxes bounded plus points sampled), ``boundary_cells``, ``blocks``
-        and ``seconds``.  Empty (with a warning) when no boundary lies in the
+        (boxes bounded plus points sampled), ``boundary_cells`` (BOUNDARY
+        cells of edge ``2h`` meshed), ``blocks`` and ``seconds``.  Empty (with a warning) when no boundary lies in the
         region.
 
     Examples
@@ -349,13 +349,13 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     stride = np.int64(int((cells.max() + 1) * c) + 2)  # global node ids: (x * S + y) * S + z
     per = block // c  # cells per block side
 
-    # cells grouped in slabs of `block` voxels along x
     if centre_values is not None:
         if c != 2:
             raise ValueError("centre_values: only for cells of 2 voxels")
         centre_values = np.asarray(centre_values, dtype=np.float64).reshape(-1)
         if centre_values.shape[0] != cells.shape[0]:
             raise ValueError(f"centre_values: expected {cells.shape[0]} values, got {centre_values.shape[0]}")
+    # cells grouped in slabs of `block` voxels along x
     slab_of = cells[:, 0] // per
     order = np.argsort(slab_of, kind="stable")
     cells, slab_of = cells[order], slab_of[order]
@@ -367,7 +367,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
 
     parts = []
     n_blocks = 0
-    handoff = None  # (slab, y0, z0, values, known) of the previous slab's upper node plane
+    handoff = None  # (slab, sorted node ids, values) of the previous slab's upper node plane
     bar = progress_bar(len(slab_starts), "mesh", progress, unit="slab")
     try:
         for s0, s1 in zip(slab_starts, slab_ends):
