@@ -14,6 +14,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import implicit.compile as fast
+import implicit.prune as prune
 from implicit import (box, cone, cylinder, difference, frustum, halfspace, intersection,
                       rounded_box, smooth_difference, smooth_intersection, smooth_union, sphere,
                       torus, union)
@@ -140,12 +141,12 @@ def test_random_trees_match_numpy_with_and_without_pruning(seed):
     ref = fast._numpy_evaluate(tree, pts)
     compiled = compile_solid(tree)
     assert compiled.backend == "numba"
-    old = fast.POINTS_PER_BIN
-    fast.POINTS_PER_BIN = 8
+    old = prune.POINTS_PER_BIN
+    prune.POINTS_PER_BIN = 8
     try:
         pruned = compiled(pts, prune=True)
     finally:
-        fast.POINTS_PER_BIN = old
+        prune.POINTS_PER_BIN = old
     np.testing.assert_allclose(compiled(pts, prune=False), ref, rtol=TOL, atol=TOL)
     np.testing.assert_allclose(pruned, ref, rtol=TOL, atol=TOL)
 
@@ -178,8 +179,8 @@ def test_pruning_switches_off_most_operands_of_a_plate_and_keeps_values():
     lo, hi = part.bounds
     pts = lo + (hi - lo) * np.random.default_rng(3).random((20000, 3))
     compiled = compile_solid(part)
-    with fast._Workspace(len(pts)) as (cell, order, sorted_pts, values):
-        g, scale = fast._grid(lo, hi, len(pts))
+    with prune.Workspace(len(pts)) as (cell, order, sorted_pts, values):
+        g, scale = prune.grid(lo, hi, len(pts))
         assert g.tolist() == [9, 6, 2]  # near-cubic bins of about 256 points
         starts, blo, bhi = fast._kernel("bin")(pts, lo, scale, g, cell, order, sorted_pts)
         # Every point lands in its bin's box, bins are contiguous runs.
@@ -353,9 +354,9 @@ def test_register_rule_validates_its_arguments():
 
 
 def test_points_on_a_plane_are_binned_in_two_dimensions():
-    g, scale = fast._grid(np.zeros(3), np.array([2.0, 1.0, 0.0]), 256 * 50)
+    g, scale = prune.grid(np.zeros(3), np.array([2.0, 1.0, 0.0]), 256 * 50)
     assert g.tolist() == [10, 5, 1] and scale[2] == 0.0
-    assert fast._grid(np.zeros(3), np.array([np.inf, 1.0, 1.0]), 1000) is None
+    assert prune.grid(np.zeros(3), np.array([np.inf, 1.0, 1.0]), 1000) is None
     part = _plate()
     xy = np.random.default_rng(8).uniform(-4.5, 4.5, (30000, 2))
     pts = np.column_stack([xy, np.full(len(xy), 0.25)])
