@@ -29,9 +29,28 @@ MAX_BINS_PER_AXIS = 64
 
 
 def grid(lo: np.ndarray, hi: np.ndarray, n: int):
-    """Bins per axis ``g`` (3,) and ``scale`` (bins per unit length) for `n`
-    points in the box `lo`..`hi`: about `POINTS_PER_BIN` points a bin, cubic
-    bins, flat axes one bin thick; None when the box is not finite."""
+    """The binning grid for `n` points in the box `lo`..`hi`.
+
+    Parameters
+    ----------
+    lo, hi : (3,) float
+        Bounds of the points.
+    n : int
+        Number of points.
+
+    Returns
+    -------
+    (g, scale) or None
+        ``g`` (3,) int64 bins per axis (about `POINTS_PER_BIN` points a bin,
+        near-cubic bins, a flat axis one bin thick) and ``scale`` (3,) bins
+        per unit length; None when the box is not finite.
+
+    Examples
+    --------
+    >>> g, scale = grid(np.zeros(3), np.array([2.0, 1.0, 0.0]), 50 * POINTS_PER_BIN)
+    >>> g.tolist()
+    [10, 5, 1]
+    """
     ext = hi - lo
     if not (np.isfinite(ext).all() and np.isfinite(lo).all()):
         return None
@@ -47,12 +66,32 @@ def grid(lo: np.ndarray, hi: np.ndarray, n: int):
 
 
 def operand_flags(tape: Tape, lo: np.ndarray, hi: np.ndarray, record: Callable) -> np.ndarray:
-    """Boolean ``(m, len(tape.flags))``: operand needed somewhere in box ``i``.
+    """Which operands of the tape each box needs.
 
+    Parameters
+    ----------
+    tape : Tape
+    lo, hi : (m, 3) float
+        Boxes (the tight boxes of the bins' points).
+    record : callable
+        ``record(centres (m, 3)) -> (tape.nstore, m)``: the stored operand
+        values of the recording tape at the boxes' centres.
+
+    Returns
+    -------
+    (m, len(tape.flags)) bool
+        False where the operand cannot change the result anywhere in the box.
+
+    Notes
+    -----
     An operand's value over a box lies within its value at the centre plus or
-    minus its Lipschitz constant times the box's half-diagonal (measured in
-    the operand's coordinates); the values at all centres come from one run
-    of the recording tape, ``record(points) -> (tape.nstore, m)``.
+    minus its Lipschitz constant times the box's half-diagonal, measured in
+    the operand's coordinates (the norm of the affine map above it); below
+    coordinates that are no known affine image, nothing is pruned.  A union
+    drops an operand whose lower bound exceeds the smallest upper bound of
+    all operands (strictly, so the one that attains it stays); a smooth fold
+    drops one that is at least the blend radius beyond the operands kept
+    before it, where the smooth minimum returns the fold unchanged.
     """
     m = lo.shape[0]
     out = np.ones((m, len(tape.flags)), dtype=np.bool_)
