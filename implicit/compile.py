@@ -257,10 +257,12 @@ def _build_kernels(numba):
         @njit(fastmath=False, cache=False, nogil=True, parallel=parallel)
         def run(code, K, nreg, result, pts, starts, flags, out, block, nthreads, rec, X):
             # Bin c holds points starts[c]:starts[c + 1]; its flags row says
-            # which operands run.  Threads take contiguous runs of bins.
+            # which operands run.  Tasks take contiguous runs of bins, several
+            # per thread so that the scheduler spreads them over the threads.
             nbins = starts.shape[0] - 1
-            per = (nbins + nthreads - 1) // nthreads
-            for t in loop(nthreads):
+            ntasks = max(1, min(nbins, 8 * nthreads))
+            per = (nbins + ntasks - 1) // ntasks
+            for t in loop(ntasks):
                 R = np.empty((nreg, block))
                 for c in range(t * per, min(nbins, (t + 1) * per)):
                     for s in range(starts[c], starts[c + 1], block):
