@@ -28,8 +28,9 @@ This module instead
 
 An earlier design generated one fused Python loop per tree for numba: it ran
 the 50-node plate at 2.3 M points/s and took 11 s to compile per tree; the
-tape runs it at 8 M/s unpruned and 23 M/s pruned on one core (numpy: 0.57),
-after 3 s of compilation once per process (``bench/bench_eval.py``).
+tape runs it at 7.6 M/s unpruned and 21 M/s pruned (23 near the surface) on
+one core, 33 on two (numpy: 0.60), after 3 s of compilation once per process
+(``bench/bench_eval.py``).
 
 Node kinds join the fast path by a rule, keyed by node class (see
 `register_rule`).  A node of a kind without a rule (a polyhedron, a sweep, a

@@ -41,8 +41,9 @@ INFINITE_BOUNDS = (np.full(3, -np.inf), np.full(3, np.inf))
 
 # Points are evaluated in chunks of this many rows: temporaries of a chunk stay
 # in the processor's cache instead of streaming whole arrays through memory
-# (bench/bench_eval.py, 50-node plate: 0.57 M points/s at 16384 rows, 0.47-0.51
-# at 32768).
+# (bench/bench_eval.py, 50-node plate: 0.60 M points/s at 16384 rows, the wall
+# speed of 32768 at half the CPU time: numpy's matrix products of the larger
+# chunks ran on two threads).
 EVAL_CHUNK = 16384
 
 # Calls with at least this many points may take the compiled fast path
