@@ -133,7 +133,7 @@ COMPILE_SECONDS: dict[str, float] = {}
 def _build_kernels(numba):
     njit = numba.njit
 
-    @njit(fastmath=False, cache=False, nogil=True)
+    @njit(fastmath=False, cache=True, nogil=True)
     def run_block(code, K, R, n, flags, c, rec, s, X):
         pc = 0
         ncode = code.shape[0]
@@ -255,7 +255,7 @@ def _build_kernels(numba):
     def make_run(parallel):
         loop = numba.prange if parallel else range
 
-        @njit(fastmath=False, cache=False, nogil=True, parallel=parallel)
+        @njit(fastmath=False, cache=True, nogil=True, parallel=parallel)
         def run(code, K, nreg, result, pts, starts, flags, out, block, nthreads, rec, X):
             # Bin c holds points starts[c]:starts[c + 1]; its flags row says
             # which operands run.  Tasks take contiguous runs of bins, several
@@ -277,7 +277,7 @@ def _build_kernels(numba):
                             out[s + j] = R[result, j]
         return run
 
-    @njit(cache=False, nogil=True)
+    @njit(cache=True, nogil=True)
     def bounds_of(pts):
         lx = hx = pts[0, 0]
         ly = hy = pts[0, 1]
@@ -294,12 +294,12 @@ def _build_kernels(numba):
             hz = max(hz, z)
         return np.array([lx, ly, lz]), np.array([hx, hy, hz])
 
-    @njit(cache=False, nogil=True)
+    @njit(cache=True, nogil=True)
     def unsort(values, order, out):
         for k in range(values.shape[0]):
             out[order[k]] = values[k]
 
-    @njit(cache=False, nogil=True)
+    @njit(cache=True, nogil=True)
     def bin_points(pts, lo, scale, g, cell, order, sorted_pts):
         # Counting sort of the points by grid cell (g[0] x g[1] x g[2] cells)
         # into the buffers `order` (permutation) and `sorted_pts`; returns the
