@@ -476,7 +476,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
     switches = (f"pq{radius_edge:g}/{min_dihedral:g}a{_REGULAR_VOLUME * size**3:.6g}"
                 f"o/{max_dihedral:g}O9/7S{cap}{_KEEP_SURFACE}Q")
     try:
-        with _scratch_directory():
+        with _scratch_directory(), _native_stdout_silenced():
             nodes, elems, *_ = tg.tetrahedralize(switches=switches)
     except RuntimeError as exc:
         raise ValueError(f"surface: TetGen could not mesh it ({exc}); is it closed and free of "
@@ -557,3 +557,24 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
         warnings.warn(msg, MeshQualityWarning, stacklevel=2)
     return TetMesh(points=nodes, tets=tets, boundary=bfaces, boundary_element=belem, boundary_side=bside,
                    face_sets=face_sets, node_sets=node_sets, quality=quality, surface_deviation=dev, info=info)
+
+
+@contextmanager
+def _native_stdout_silenced():
+    """Send file descriptor 1 to /dev/null: the TetGen wrapper prints from C++
+    ("parsing switches", "success") even with its quiet switch."""
+    import sys
+
+    try:
+        sys.stdout.flush()
+        saved = os.dup(1)
+    except (OSError, ValueError, AttributeError):  # no real stdout (captured, closed)
+        yield
+        return
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 1)
+            yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
