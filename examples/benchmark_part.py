@@ -1,6 +1,6 @@
 """The benchmark part: a sphere-box intersection drilled through along x, y and z.
 
-Volume 0.98878635, genus 5 (Euler characteristic -8); see REFERENCE.md.
+Volume 0.98878635, genus 5 (Euler characteristic -8).
 
     implicad info examples/benchmark_part.py
 """

@@ -226,7 +226,7 @@ class OccupancyGrid:
         method : {"count", "fraction"}
             ``count``: occupied voxels times ``h**3`` (error of order h).
             ``fraction``: each voxel counts ``clamp(0.5 - d/h, 0, 1)`` of its
-            volume (error about h**2 for exact distances, see REFERENCE.md).
+            volume (error about h**2 for exact distances).
         """
         h3 = self.voxel_size ** 3
         if method == "count":
