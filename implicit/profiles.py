@@ -447,7 +447,26 @@ class Polygon(Profile):
         return Polygon(np.vstack([path, mirrored]))
 
 
-class ProfileUnion(Profile):
+class _ProfileBoolean(Profile):
+    """Shared behaviour of the profile booleans under revolution."""
+
+    __slots__ = ()
+
+    def symmetric(self) -> bool:
+        return all(c.symmetric() for c in self._children)
+
+    def meridian(self):
+        # Joining with the mirror image distributes over these operations for
+        # operands in r >= 0 (and symmetric operands are their own image).
+        parts = [c.meridian() for c in self._children]
+        if any(m is None for m in parts):
+            return None
+        if all(m is c for m, c in zip(parts, self._children)):
+            return self
+        return type(self)(*parts)
+
+
+class ProfileUnion(_ProfileBoolean):
     """Union of profiles: ``min`` (a bound; exact outside)."""
 
     kind = "profile_union"
@@ -463,21 +482,8 @@ class ProfileUnion(Profile):
     def _evaluate(self, p):
         return np.min([c._evaluate(p) for c in self._children], axis=0)
 
-    def symmetric(self) -> bool:
-        return all(c.symmetric() for c in self._children)
 
-    def meridian(self):
-        # Joining with the mirror image distributes over these operations for
-        # operands in r >= 0 (and symmetric operands are their own image).
-        parts = [c.meridian() for c in self._children]
-        if any(m is None for m in parts):
-            return None
-        if all(m is c for m, c in zip(parts, self._children)):
-            return self
-        return type(self)(*parts)
-
-
-class ProfileIntersection(Profile):
+class ProfileIntersection(_ProfileBoolean):
     """Intersection of profiles: ``max`` (a bound)."""
 
     kind = "profile_intersection"
@@ -493,21 +499,8 @@ class ProfileIntersection(Profile):
     def _evaluate(self, p):
         return np.max([c._evaluate(p) for c in self._children], axis=0)
 
-    def symmetric(self) -> bool:
-        return all(c.symmetric() for c in self._children)
 
-    def meridian(self):
-        # Joining with the mirror image distributes over these operations for
-        # operands in r >= 0 (and symmetric operands are their own image).
-        parts = [c.meridian() for c in self._children]
-        if any(m is None for m in parts):
-            return None
-        if all(m is c for m, c in zip(parts, self._children)):
-            return self
-        return type(self)(*parts)
-
-
-class ProfileDifference(Profile):
+class ProfileDifference(_ProfileBoolean):
     """The first profile minus the others: ``max(a, -b, ...)`` (a bound)."""
 
     kind = "profile_difference"
@@ -524,19 +517,6 @@ class ProfileDifference(Profile):
         for c in self._children[1:]:
             out = np.maximum(out, -c._evaluate(p))
         return out
-
-    def symmetric(self) -> bool:
-        return all(c.symmetric() for c in self._children)
-
-    def meridian(self):
-        # Joining with the mirror image distributes over these operations for
-        # operands in r >= 0 (and symmetric operands are their own image).
-        parts = [c.meridian() for c in self._children]
-        if any(m is None for m in parts):
-            return None
-        if all(m is c for m, c in zip(parts, self._children)):
-            return self
-        return type(self)(*parts)
 
 
 class ProfileOffset(Profile):
