@@ -122,39 +122,74 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
-    cells, centres, evaluations = _boundary_cells_2h(lattice, progress)
-    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, cells, cell_size=2,
-                      refine=refine, progress=progress, evaluations=evaluations, block=block,
-                      centre_values=centres, _stacklevel=3)
+    found = _boundary_cells_2h(lattice, progress)
+    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2,
+                      refine=refine, progress=progress, evaluations=found["evaluations"], block=block,
+                      centre_values=found["centres"], uniform_cells=found["uniform"], node_values=found["nodes"],
+                      _stacklevel=3)
 
 
 def _boundary_cells_2h(lattice, progress):
-    """BOUNDARY cells of edge ``2h`` (level ``depth - 1``) and, when known, the field at their centres.
+    """BOUNDARY cells of edge ``2h`` (level ``depth - 1``) and what their classification learned.
 
-    Levels down to ``depth - 2`` are classified by `Solid.value_bounds`.  When
-    the solid uses the default Lipschitz bound, level ``depth - 1`` is
-    classified by the same test on values sampled at the cell centres --
-    which are lattice nodes, so the mesh reuses them instead of sampling them
-    again.  Returns ``(cells, centre values or None, evaluations)``.
+    Levels down to ``depth - 3`` are classified by `Solid.value_bounds`.  When
+    the solid uses the default Lipschitz bound, the levels of edge ``4h`` and
+    ``2h`` are classified by the same test on values sampled at the cell
+    centres -- which are lattice nodes, so the mesh reuses them instead of
+    sampling them again -- and the cells found uniform keep their sign, from
+    which the mesh infers the sign of their nodes without sampling them.
+
+    Returns
+    -------
+    dict
+        ``cells`` (m, 3) int; ``centres`` (m,) values at their centres or
+        None; ``uniform`` ((k, 3) cells of edge ``2h``, (k,) int8 signs) or
+        None; ``nodes`` ((j, 3) lattice nodes, (j,) values) sampled on the
+        way or None; ``evaluations``.
     """
     from implicit.solid import Solid
 
     solid, depth = lattice.solid, lattice.depth
-    if type(solid)._value_bounds is not Solid._value_bounds or depth < 2:
+    if type(solid)._value_bounds is not Solid._value_bounds or depth < 3:
         result = descend(lattice, keep_leaves=False, stop_level=depth - 1, progress=progress,
                          chunk=CLASSIFY_CHUNK)
-        return result["boundary"], None, result["evaluations"]
-    result = descend(lattice, keep_leaves=False, stop_level=depth - 2, progress=progress, chunk=CLASSIFY_CHUNK)
-    children = (2 * result["boundary"][:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
-    limit = (-(-lattice.shape // 2)).astype(np.int32)
-    children = children[(children < limit).all(axis=1)]
+        return dict(cells=result["boundary"], centres=None, uniform=None, nodes=None,
+                    evaluations=result["evaluations"])
+    result = descend(lattice, keep_leaves=False, stop_level=depth - 3, progress=progress, chunk=CLASSIFY_CHUNK)
+    evaluations = result["evaluations"]
     h = lattice.voxel_size
-    values = np.empty(children.shape[0])
-    for a in range(0, children.shape[0], EVAL_CHUNK):
-        values[a:a + EVAL_CHUNK] = solid(lattice.origin + (2 * children[a:a + EVAL_CHUNK] + 1) * h)
-    # the default bound: |f(centre)| <= L * half-diagonal (sqrt(3) h) may hold boundary
-    keep = np.abs(values) <= solid.lipschitz * np.sqrt(3.0) * h * (1 + 1e-12)
-    return children[keep], values[keep], result["evaluations"] + int(children.shape[0])
+    lip = solid.lipschitz
+    parents = result["boundary"]
+    uniform_cells, uniform_signs, node_idx, node_val = [], [], [], []
+    for size in (4, 2):  # cell edge in voxels
+        children = (2 * parents[:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
+        limit = (-(-lattice.shape // size)).astype(np.int32)
+        inside = (children < limit).all(axis=1)
+        # children beyond the padded region are EMPTY: the solid lies inside its bounds
+        beyond = children[~inside]
+        children = children[inside]
+        values = np.empty(children.shape[0])
+        for a in range(0, children.shape[0], EVAL_CHUNK):
+            values[a:a + EVAL_CHUNK] = solid(lattice.origin + (size * children[a:a + EVAL_CHUNK] + size // 2) * h)
+        evaluations += int(children.shape[0])
+        # the default bound: |f(centre)| <= L * half-diagonal may hold boundary
+        keep = np.abs(values) <= lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12)
+        flat = np.concatenate([children[~keep], beyond])
+        signs = np.concatenate([np.where(values[~keep] < 0, -1, 1), np.ones(beyond.shape[0])]).astype(np.int8)
+        if size == 4:
+            # a uniform cell of 4h is 8 uniform cells of 2h; its centre is a lattice node
+            uniform_cells.append((2 * flat[:, None, :] + CHILD_OFFSETS).reshape(-1, 3))
+            uniform_signs.append(np.repeat(signs, 8))
+            node_idx.append(4 * children + 2)
+            node_val.append(values)
+        else:
+            uniform_cells.append(flat)
+            uniform_signs.append(signs)
+        parents = children[keep]
+        centres = values[keep]
+    return dict(cells=parents, centres=centres,
+                uniform=(np.concatenate(uniform_cells).astype(np.int32), np.concatenate(uniform_signs)),
+                nodes=(np.concatenate(node_idx), np.concatenate(node_val)), evaluations=evaluations)
 
 
 def _check_block(block):
@@ -302,7 +337,7 @@ def _evaluate(solid, pts, chunk=EVAL_CHUNK):
 
 
 def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
-               block=DEFAULT_BLOCK, centre_values=None, _stacklevel=2):
+               block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, node_values=None, _stacklevel=2):
     """Mesh the boundary through the given cells of a lattice.
 
     Parameters
@@ -324,11 +359,28 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         Evaluations already spent (added to the mesh's count).
     centre_values : (m,) float, optional
         The field at the cells' centres when already sampled (``cell_size``
-        2 only): those nodes are not sampled again.
+        2 only): those nodes are not sampled again, and nodes close to a
+        centre far enough from the level take its sign without being sampled.
+    uniform_cells : ((k, 3) int, (k,) int8), optional
+        Cells (same units) known to hold one strict sign, and that sign
+        (``cell_size`` 2 only): their nodes take it without being sampled.
+    node_values : ((j, 3) int, (j,) float), optional
+        Lattice nodes already sampled and their values (``cell_size`` 2
+        only): reused, and their neighbours far enough from the level take
+        their sign.
 
     Returns
     -------
     pyvista.PolyData
+
+    Notes
+    -----
+    A node's sign is all marching cubes needs unless the node ends an edge
+    the surface crosses, so sampling runs in two passes: first the nodes
+    whose sign is not known (from a centre value ``v`` at distance ``d`` with
+    ``|v| > L d``, ``L`` the solid's Lipschitz constant, or from a uniform
+    cell holding the node), then the ends of crossing edges still without a
+    value.  Both passes are rigorous: an inferred sign is the true one.
     """
     import pyvista as pv
 
@@ -346,6 +398,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         raise ValueError("cells: expected non-negative lattice indices")
     if block % c:
         raise ValueError(f"block: expected a multiple of the cell size {c}, got {block}")
+    lip = float(getattr(solid, "lipschitz", np.inf))
     stride = np.int64(int((cells.max() + 1) * c) + 2)  # global node ids: (x * S + y) * S + z
     per = block // c  # cells per block side
 
@@ -355,6 +408,32 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         centre_values = np.asarray(centre_values, dtype=np.float64).reshape(-1)
         if centre_values.shape[0] != cells.shape[0]:
             raise ValueError(f"centre_values: expected {cells.shape[0]} values, got {centre_values.shape[0]}")
+    uniform = None
+    if uniform_cells is not None and np.isfinite(lip) and lip > 0:
+        if c != 2:
+            raise ValueError("uniform_cells: only for cells of 2 voxels")
+        u_idx = np.asarray(uniform_cells[0], dtype=np.int64).reshape(-1, 3)
+        u_sgn = np.asarray(uniform_cells[1], dtype=np.int8).reshape(-1)
+        if u_idx.shape[0] != u_sgn.shape[0]:
+            raise ValueError("uniform_cells: expected as many signs as cells")
+        order = np.argsort(u_idx[:, 0], kind="stable")
+        uniform = (u_idx[order], u_sgn[order])
+        del order, u_idx, u_sgn
+    known = None
+    if node_values is not None and np.isfinite(lip) and lip > 0:
+        if c != 2:
+            raise ValueError("node_values: only for cells of 2 voxels")
+        k_idx = np.asarray(node_values[0], dtype=np.int64).reshape(-1, 3)
+        k_val = np.asarray(node_values[1], dtype=np.float64).reshape(-1)
+        if k_idx.shape[0] != k_val.shape[0]:
+            raise ValueError("node_values: expected as many values as nodes")
+        order = np.argsort(k_idx[:, 0], kind="stable")
+        known = (k_idx[order], _nudge(k_val[order], h).astype(np.float32))
+        del order, k_idx, k_val
+    if not (np.isfinite(lip) and lip > 0):
+        centre_infer = False
+    else:
+        centre_infer = centre_values is not None
     # cells grouped in slabs of `block` voxels along x
     slab_of = cells[:, 0] // per
     order = np.argsort(slab_of, kind="stable")
@@ -367,14 +446,24 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
 
     parts = []
     n_blocks = 0
-    handoff = None  # (slab, sorted node ids, values) of the previous slab's upper node plane
+    handoff = None  # (slab, sorted node ids, values, signs) of the previous slab's upper node plane
     bar = progress_bar(len(slab_starts), "mesh", progress, unit="slab")
     try:
         for s0, s1 in zip(slab_starts, slab_ends):
             slab = int(slab_of[s0])
-            sc = cells[s0:s1]
+            job = _SlabJob(solid, origin, h, c, block, slab, stride, lip if centre_infer or uniform is not None else None)
             given = None if centre_values is None else centre_values[s0:s1]
-            nb, spent, handoff = _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts, given)
+            ring = None
+            if uniform is not None:
+                lo_x, hi_x = slab * per - 1, (slab + 1) * per
+                a, b = np.searchsorted(uniform[0][:, 0], [lo_x, hi_x + 1])
+                ring = (uniform[0][a:b], uniform[1][a:b])
+            extra = None
+            if known is not None:
+                # nodes strictly inside the slab (those on its planes are shared: not worth merging)
+                a, b = np.searchsorted(known[0][:, 0], [slab * block + 1, (slab + 1) * block])
+                extra = (known[0][a:b], known[1][a:b])
+            nb, spent, handoff = job.run(cells[s0:s1], given, ring, centre_infer, handoff, parts, extra)
             n_blocks += nb
             evaluations += spent
             bar.update()
@@ -396,11 +485,16 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     p0 += origin
     t = f0 / (f0.astype(np.float64) - f1)
     if refine:
-        t, spent = _refine_on_edges(solid, p0, axis, h, t, f0, f1)
+        rows = np.flatnonzero(~_certified(f0, f1, h, lip))
+        spent = _refine_on_edges(solid, p0, axis, h, t, f0, f1, rows)
         evaluations += spent
+        del rows
     del f0, f1
-    p0[np.arange(p0.shape[0]), axis] += t * h
-    del t, axis
+    t *= h
+    for a in range(3):
+        on = axis == a
+        p0[on, a] += t[on]
+    del t, axis, on
     out = pv.PolyData.from_regular_faces(p0, faces)
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
@@ -410,145 +504,331 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     return out
 
 
-def _mesh_slab(solid, origin, h, sc, c, block, slab, stride, handoff, parts, given=None):
+def _certified(f0, f1, h, lip):
+    """Vertices whose linear interpolation is already within ``REFINE_ACCEPT * h`` of the level.
+
+    On an edge of length ``h`` with end values ``f0 < 0 < f1`` (or the
+    reverse), an ``L``-Lipschitz field has a root in ``[|f0| / (L h), 1 - |f1|
+    / (L h)]``, an interval that holds the interpolated point too; so ``|f|``
+    there is at most ``L h w`` with ``w = 1 - (|f0| + |f1|) / (L h)``.  An
+    edge crossing a plane square on has ``w = 0``.  Ends pushed off the
+    level (`ZERO_NUDGE`) are not trusted.
+    """
+    if not (np.isfinite(lip) and lip > 0):
+        return np.zeros(f0.shape[0], dtype=bool)
+    a0 = np.abs(f0.astype(np.float64))
+    a1 = np.abs(f1.astype(np.float64))
+    floor = ZERO_NUDGE * h * (1 + 1e-3)
+    spare = lip * h - (a0 + a1)  # = L h w
+    return (spare <= REFINE_ACCEPT * h) & (a0 > floor) & (a1 > floor)
+
+
+# Offsets from a cell's centre node to the other 26 nodes of a cell of 2 voxels, by distance (in h).
+_NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
+                        if (i, j, k) != (0, 0, 0)], dtype=np.int64)
+_NEIGHBOUR_DIST = np.sqrt((_NEIGHBOURS ** 2).sum(axis=1))
+
+
+class _SlabJob:
     """Sample and mesh one slab of cells (x from ``slab * block`` voxels, ``block`` thick).
 
     The slab's active blocks (those holding cells) are stacked in dense
     ``(nb, block+1, block+1, block+1)`` arrays, so the work follows the
-    surface.  Only nodes of the cells are evaluated, each once: nodes on a
-    face shared by two blocks are merged by their integer id, and the lower
-    node plane reuses the values the previous slab evaluated for its upper
-    plane (`handoff`: sorted ids and values).  `given` holds the values at
-    the cells' centres when already sampled.  Returns ``(blocks meshed,
-    evaluations, handoff)``.
+    surface.  Only nodes of the cells are considered, each evaluated at most
+    once: nodes on a face shared by two blocks are merged by their integer
+    id, and the lower node plane reuses what the previous slab learned about
+    its upper plane (`handoff`: sorted ids, values -- NaN when only the sign
+    is known -- and signs).
     """
-    B = block
-    P = B // c
-    x0 = slab * B
-    # -- active blocks and their cells --------------------------------------------------
-    by = sc[:, 1] // P
-    bz = sc[:, 2] // P
-    nbz = int(bz.max()) + 1
-    keys, inv = np.unique(by * nbz + bz, return_inverse=True)
-    nb = keys.shape[0]
-    bys, bzs = np.divmod(keys, nbz)
-    cells = np.zeros((nb, P, P, P), dtype=bool)
-    cells[inv, sc[:, 0] - slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P] = True
-    cell_local = (inv, sc[:, 0] - slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P)
-    del by, bz
-    # nodes of the cells: a separable dilation (each axis: repeat c times, OR a shift by one)
-    need = cells
-    for ax in (1, 2, 3):
-        rep = np.repeat(need, c, axis=ax) if c > 1 else need
-        shape = list(rep.shape)
-        shape[ax] += 1
-        grown = np.zeros(shape, dtype=bool)
-        lo_sl = [slice(None)] * 4
-        hi_sl = [slice(None)] * 4
-        lo_sl[ax] = slice(0, -1)
-        hi_sl[ax] = slice(1, None)
-        grown[tuple(lo_sl)] = rep
-        grown[tuple(hi_sl)] |= rep
-        need = grown
-    del rep, grown
-    # -- global ids of the needed nodes ----------------------------------------------------
-    flat = np.flatnonzero(need)
-    n3 = (B + 1) ** 3
-    blk, rest = np.divmod(flat, n3)
-    li, rest = np.divmod(rest, (B + 1) ** 2)
-    lj, lk = np.divmod(rest, B + 1)
-    del rest
-    gy = bys[blk] * B + lj
-    gz = bzs[blk] * B + lk
-    gid = ((li + x0) * stride + gy) * stride + gz
-    # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
-    maybe = (lj % B == 0) | (lk % B == 0) | (li == 0)
-    uniq, ufirst, back = np.unique(gid[maybe], return_index=True, return_inverse=True)
-    uval = np.empty(uniq.shape[0])
-    todo_u = np.ones(uniq.shape[0], dtype=bool)
-    if handoff is not None and handoff[0] == slab - 1 and handoff[1].size:
-        pid, pval = handoff[1], handoff[2]
-        pos = np.minimum(np.searchsorted(pid, uniq), pid.size - 1)
-        hit = pid[pos] == uniq
-        uval[hit] = pval[pos[hit]]
-        todo_u[hit] = False
-    single = ~maybe
-    if given is not None:
-        # the cells' centres (all-odd local coordinates) are already sampled
-        single &= ~((li & 1).astype(bool) & (lj & 1).astype(bool) & (lk & 1).astype(bool))
-    # evaluate the single nodes and the merged nodes not handed over, in one call
-    pick = np.concatenate([np.flatnonzero(single), np.flatnonzero(maybe)[ufirst[todo_u]]])
-    pts = np.empty((pick.shape[0], 3))
-    pts[:, 0] = origin[0] + (li[pick] + x0) * h
-    pts[:, 1] = origin[1] + gy[pick] * h
-    pts[:, 2] = origin[2] + gz[pick] * h
-    vals_pick = _nudge(_evaluate(solid, pts), h) if pick.shape[0] else np.empty(0)
-    del pts
-    spent = int(pick.shape[0])
-    n_single = int(np.count_nonzero(single))
-    uval[todo_u] = vals_pick[n_single:]
-    node_vals = np.zeros(flat.shape[0])
-    node_vals[single] = vals_pick[:n_single]
-    node_vals[maybe] = uval[back]
-    del vals_pick, pick
-    # only needed nodes are read (each block sets its other nodes to 1 below)
-    values = np.empty((nb, B + 1, B + 1, B + 1), dtype=np.float32)
-    values.reshape(-1)[flat] = node_vals
-    if given is not None:
-        b_, x_, y_, z_ = cell_local
-        values[b_, 2 * x_ + 1, 2 * y_ + 1, 2 * z_ + 1] = given
-    del cell_local
-    # the upper plane goes to the next slab
-    top = li == B
-    hid, first = np.unique(gid[top], return_index=True)
-    handoff = (slab, hid, node_vals[top][first])
-    del flat, blk, li, lj, lk, gy, gz, gid, node_vals, maybe, single
-    # -- mesh every block -------------------------------------------------------------------
-    for b in range(nb):
-        cb = cells[b]
-        box_lo, box_hi = [], []
-        for ax in range(3):
-            hit = np.flatnonzero(cb.any(axis=tuple(a for a in range(3) if a != ax)))
-            box_lo.append(int(hit[0]))
-            box_hi.append(int(hit[-1]) + 1)
-        cb = cb[box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
-        if c > 1:
-            cb = np.repeat(np.repeat(np.repeat(cb, c, 0), c, 1), c, 2)
-        xs, ys, zs = box_lo[0] * c, box_lo[1] * c, box_lo[2] * c
-        box = (b, slice(xs, xs + cb.shape[0] + 1), slice(ys, ys + cb.shape[1] + 1), slice(zs, zs + cb.shape[2] + 1))
-        vol = np.ascontiguousarray(values[box])
-        vol[~need[box]] = 1.0
-        mask = np.zeros(vol.shape, dtype=bool)
-        mask[1:, 1:, 1:] = cb
-        node, axis, f0, f1, faces = mesh_block(vol, mask)
-        if faces.shape[0]:
-            node += (xs + x0, ys + int(bys[b]) * B, zs + int(bzs[b]) * B)
-            edges = ((node[:, 0] * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
-            on_plane = (node % B == 0) & (axis[:, None] != np.arange(3))
-            shared = on_plane.any(axis=1)
-            parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1), faces))
-    return nb, spent, handoff
+
+    def __init__(self, solid, origin, h, c, block, slab, stride, lip):
+        self.solid, self.origin, self.h, self.c = solid, origin, h, c
+        self.B, self.P = block, block // c
+        self.slab, self.stride, self.lip = slab, stride, lip
+        self.x0 = slab * block
+        self.nbz = int(stride) // block + 3  # block keys: by * nbz + bz, the same in every slab
+
+    # -- the parts -------------------------------------------------------------------------
+    def _blocks(self, sc):
+        P = self.P
+        by = sc[:, 1] // P
+        bz = sc[:, 2] // P
+        keys, inv = np.unique(by * self.nbz + bz, return_inverse=True)
+        self.keys = keys
+        self.bys, self.bzs = np.divmod(keys, self.nbz)
+        self.nb = keys.shape[0]
+        self.cl = (inv, sc[:, 0] - self.slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P)
+        cells = np.zeros((self.nb, P, P, P), dtype=bool)
+        cells[self.cl] = True
+        return cells
+
+    def _needed(self, cells):
+        """Nodes of the cells: a separable dilation (each axis: repeat c times, OR a shift by one)."""
+        c = self.c
+        need = cells
+        for ax in (1, 2, 3):
+            rep = np.repeat(need, c, axis=ax) if c > 1 else need
+            shape = list(rep.shape)
+            shape[ax] += 1
+            grown = np.zeros(shape, dtype=bool)
+            lo_sl = [slice(None)] * 4
+            hi_sl = [slice(None)] * 4
+            lo_sl[ax] = slice(0, -1)
+            hi_sl[ax] = slice(1, None)
+            grown[tuple(lo_sl)] = rep
+            grown[tuple(hi_sl)] |= rep
+            need = grown
+        return need
+
+    def _ring_signs(self, ring):
+        """Signs the uniform cells give to the nodes of the slab's blocks, ``(nb, B+1, B+1, B+1)`` int8.
+
+        A block's nodes are held by the cells of its ring ``[-1, P]`` (local
+        cell coordinates, P cells per side); a uniform cell on a block's side
+        belongs to the rings of up to 8 blocks.
+        """
+        P, nb = self.P, self.nb
+        idx, sgn = ring
+        take, byb, ly = _side_copies(idx[:, 1], P)
+        rows = take
+        take, bzb, lz = _side_copies(idx[rows, 2], P)
+        rows, byb, ly = rows[take], byb[take], ly[take]
+        lx = idx[rows, 0] - self.slab * P + 1  # 0 .. P+1
+        key = byb * self.nbz + bzb
+        pos = np.minimum(np.searchsorted(self.keys, key), nb - 1)
+        hit = (self.keys[pos] == key) & (byb >= 0) & (bzb >= 0)
+        r, lx, ly, lz = rows[hit], lx[hit], ly[hit], lz[hit]
+        ring_arr = np.zeros((nb, P + 2, P + 2, P + 2), dtype=np.int8)
+        ring_arr[pos[hit], lx, ly, lz] = sgn[r]
+        # cells -> nodes, axis by axis: node 2k+1 lies in ring cell k+1, node 2k in ring cells k and k+1
+        out = ring_arr
+        for ax in (1, 2, 3):
+            n = out.shape[ax]  # P + 2
+            shape = list(out.shape)
+            shape[ax] = 2 * (n - 2) + 1
+            nodes = np.empty(shape, dtype=np.int8)
+            src = [slice(None)] * 4
+            dst = [slice(None)] * 4
+            dst[ax] = slice(1, None, 2)
+            src[ax] = slice(1, n - 1)
+            nodes[tuple(dst)] = out[tuple(src)]
+            dst[ax] = slice(0, None, 2)
+            a_sl = list(src)
+            b_sl = list(src)
+            a_sl[ax] = slice(0, n - 1)
+            b_sl[ax] = slice(1, n)
+            nodes[tuple(dst)] = out[tuple(a_sl)] | out[tuple(b_sl)]  # consistent signs: OR keeps the nonzero one
+            out = nodes
+        return out
+
+    def _known_in_blocks(self, extra):
+        """Block-local positions of already sampled nodes strictly inside an active block."""
+        B = self.B
+        idx, val = extra
+        by, ly = np.divmod(idx[:, 1], B)
+        bz, lz = np.divmod(idx[:, 2], B)
+        key = by * self.nbz + bz
+        pos = np.minimum(np.searchsorted(self.keys, key), self.nb - 1)
+        hit = (self.keys[pos] == key) & (ly != 0) & (lz != 0)
+        return pos[hit], idx[hit, 0] - self.x0, ly[hit], lz[hit], val[hit]
+
+    def _infer_around(self, sgn, b_, x_, y_, z_, v):
+        """Signs of the 26 neighbours of sampled nodes ``v`` farther than ``d`` from the level (``|v| > L d``)."""
+        B, h = self.B, self.h
+        gs = np.where(v < 0, -1, 1).astype(np.int8)
+        mag = np.abs(v.astype(np.float64))
+        for o, d in zip(_NEIGHBOURS, _NEIGHBOUR_DIST):
+            far = mag > self.lip * d * h * (1 + 1e-6)  # float32 values: a margin for their rounding
+            far &= (x_ + o[0] >= 0) & (x_ + o[0] <= B) & (y_ + o[1] >= 0) & (y_ + o[1] <= B)
+            far &= (z_ + o[2] >= 0) & (z_ + o[2] <= B)
+            if far.any():
+                sgn[b_[far], x_[far] + o[0], y_[far] + o[1], z_[far] + o[2]] = gs[far]
+        sgn[b_, x_, y_, z_] = gs
+
+    def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
+        """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
+        B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
+        cells = self._blocks(sc)
+        need = self._needed(cells)
+        shape = need.shape
+        sgn = np.zeros(shape, dtype=np.int8)
+        if ring is not None and ring[0].shape[0]:
+            sgn |= self._ring_signs(ring)
+        sampled = []  # (block, x, y, z, value) of nodes already sampled
+        if given is not None:
+            b_, x_, y_, z_ = self.cl
+            sampled.append((b_, 2 * x_ + 1, 2 * y_ + 1, 2 * z_ + 1, given))
+        if extra is not None and extra[0].shape[0]:
+            sampled.append(self._known_in_blocks(extra))
+        for b_, x_, y_, z_, v in sampled:
+            if centre_infer:
+                self._infer_around(sgn, b_, x_, y_, z_, v)
+            else:
+                sgn[b_, x_, y_, z_] = np.where(v < 0, -1, 1)
+        # -- the needed nodes as a list, with global ids -----------------------------------
+        flat = np.flatnonzero(need)
+        del need
+        n3 = (B + 1) ** 3
+        blk, rest = np.divmod(flat, n3)
+        li, rest = np.divmod(rest, (B + 1) ** 2)
+        lj, lk = np.divmod(rest, B + 1)
+        del rest
+        gy = self.bys[blk] * B + lj
+        gz = self.bzs[blk] * B + lk
+        gid = ((li + x0) * stride + gy) * stride + gz
+        s_n = sgn.reshape(-1)[flat]
+        v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
+        if sampled:
+            # nodes already sampled (never on a block face) hold their values
+            vals_dense = np.full(shape, np.nan, dtype=np.float32)
+            for b_, x_, y_, z_, v in sampled:
+                vals_dense[b_, x_, y_, z_] = v
+            v_n = vals_dense.reshape(-1)[flat]
+            del vals_dense, sampled
+        # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
+        maybe = (lj % B == 0) | (lk % B == 0) | (li == 0)
+        m_idx = np.flatnonzero(maybe)
+        uniq, ufirst, back = np.unique(gid[m_idx], return_index=True, return_inverse=True)
+        s_u = np.zeros(uniq.shape[0], dtype=np.int8)
+        s_m = s_n[m_idx]
+        s_u[back[s_m != 0]] = s_m[s_m != 0]
+        v_u = np.full(uniq.shape[0], np.nan, dtype=np.float32)
+        if handoff is not None and handoff[0] == self.slab - 1 and handoff[1].size:
+            pid, pval, psgn = handoff[1], handoff[2], handoff[3]
+            pos = np.minimum(np.searchsorted(pid, uniq), pid.size - 1)
+            hit = pid[pos] == uniq
+            v_u[hit] = pval[pos[hit]]
+            s_u[hit] |= psgn[pos[hit]]
+        del s_m
+        single = ~maybe
+        spent = 0
+
+        def sample(sel_single, sel_unique):
+            """Evaluate the chosen single nodes and unique merged nodes in one call."""
+            pick = np.concatenate([np.flatnonzero(sel_single), m_idx[ufirst[sel_unique]]])
+            pts = np.empty((pick.shape[0], 3))
+            pts[:, 0] = self.origin[0] + (li[pick] + x0) * h
+            pts[:, 1] = self.origin[1] + gy[pick] * h
+            pts[:, 2] = self.origin[2] + gz[pick] * h
+            vals = _nudge(_evaluate(self.solid, pts), h).astype(np.float32) if pick.shape[0] else np.empty(0, np.float32)
+            k = int(np.count_nonzero(sel_single))
+            return vals[:k], vals[k:], int(pick.shape[0])
+
+        # -- pass 1: nodes of unknown sign ---------------------------------------------------
+        t1 = single & (s_n == 0)
+        t1u = s_u == 0
+        a, b, n = sample(t1, t1u)
+        spent += n
+        v_n[t1] = a
+        v_u[t1u] = b
+        s_n[t1] = np.where(a < 0, -1, 1)
+        s_u[t1u] = np.where(b < 0, -1, 1)
+        s_n[m_idx] = s_u[back]
+        v_n[m_idx] = v_u[back]
+        del t1, t1u, a, b
+        # -- pass 2: ends of crossing edges without a value --------------------------------
+        sgn = np.zeros(shape, dtype=np.int8)
+        sgn.reshape(-1)[flat] = s_n
+        want = np.zeros(shape, dtype=bool)
+        for ax in (1, 2, 3):
+            lo_sl = [slice(None)] * 4
+            hi_sl = [slice(None)] * 4
+            lo_sl[ax] = slice(0, -1)
+            hi_sl[ax] = slice(1, None)
+            cross = (sgn[tuple(lo_sl)] * sgn[tuple(hi_sl)]) < 0
+            want[tuple(lo_sl)] |= cross
+            want[tuple(hi_sl)] |= cross
+        del cross
+        w_n = want.reshape(-1)[flat] & np.isnan(v_n)
+        del want
+        w_u = np.zeros(uniq.shape[0], dtype=bool)
+        w_u[back[w_n[m_idx]]] = True
+        w_u &= np.isnan(v_u)
+        w_s = w_n & single
+        a, b, n = sample(w_s, w_u)
+        spent += n
+        v_n[w_s] = a
+        v_u[w_u] = b
+        v_n[m_idx] = v_u[back]
+        del w_n, w_u, w_s, a, b
+        # the upper plane goes to the next slab
+        top = li == B
+        hid, first = np.unique(gid[top], return_index=True)
+        handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
+        # -- dense values for marching cubes: a sign-only node gets +-L h, an unused node 1 --
+        missing = np.isnan(v_n)
+        if missing.any():
+            scale = np.float32(self.lip * h if self.lip else h)
+            v_n[missing] = s_n[missing].astype(np.float32) * scale
+        values = np.ones(shape, dtype=np.float32)
+        values.reshape(-1)[flat] = v_n
+        del flat, blk, li, lj, lk, gy, gz, gid, v_n, s_n, maybe, single, missing, sgn
+        self._mesh_blocks(cells, values, parts)
+        return self.nb, spent, handoff
+
+    def _mesh_blocks(self, cells, values, parts):
+        B, c, x0, stride = self.B, self.c, self.x0, self.stride
+        for b in range(self.nb):
+            cb = cells[b]
+            box_lo, box_hi = [], []
+            for ax in range(3):
+                hit = np.flatnonzero(cb.any(axis=tuple(a for a in range(3) if a != ax)))
+                box_lo.append(int(hit[0]))
+                box_hi.append(int(hit[-1]) + 1)
+            cb = cb[box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
+            if c > 1:
+                cb = np.repeat(np.repeat(np.repeat(cb, c, 0), c, 1), c, 2)
+            xs, ys, zs = box_lo[0] * c, box_lo[1] * c, box_lo[2] * c
+            box = (b, slice(xs, xs + cb.shape[0] + 1), slice(ys, ys + cb.shape[1] + 1),
+                   slice(zs, zs + cb.shape[2] + 1))
+            vol = np.ascontiguousarray(values[box])
+            mask = np.zeros(vol.shape, dtype=bool)
+            mask[1:, 1:, 1:] = cb
+            node, axis, f0, f1, faces = mesh_block(vol, mask)
+            if faces.shape[0]:
+                node += (xs + x0, ys + int(self.bys[b]) * B, zs + int(self.bzs[b]) * B)
+                edges = ((node[:, 0] * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
+                on_plane = (node % B == 0) & (axis[:, None] != np.arange(3))
+                shared = on_plane.any(axis=1)
+                parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1), faces))
 
 
-def _refine_on_edges(solid, p0, axis, h, t, f0, f1, steps=REFINE_STEPS, tol=REFINE_TOL, accept=REFINE_ACCEPT,
-                     chunk=EVAL_CHUNK):
-    """Illinois regula falsi for the root of f along each vertex's edge.
+def _side_copies(v, P):
+    """Ring coordinates of cells along one axis: ``(rows taken, block, local 0 .. P+1)``.
+
+    Cell ``v`` lies in block ``v // P`` at ring coordinate ``v % P + 1``; the
+    first cell of a block also lies in the ring of the block below (at
+    ``P + 1``), the last one in the ring of the block above (at 0).
+    """
+    blk = v // P
+    loc = v - blk * P + 1
+    lo = np.flatnonzero(loc == 1)
+    hi = np.flatnonzero(loc == P)
+    take = np.concatenate([np.arange(v.shape[0]), lo, hi])
+    blk = np.concatenate([blk, blk[lo] - 1, blk[hi] + 1])
+    loc = np.concatenate([loc, np.full(lo.shape[0], P + 1, dtype=loc.dtype), np.zeros(hi.shape[0], dtype=loc.dtype)])
+    return take, blk, loc
+
+
+def _refine_on_edges(solid, p0, axis, h, t, f0, f1, rows=None, steps=REFINE_STEPS, tol=REFINE_TOL,
+                     accept=REFINE_ACCEPT, chunk=EVAL_CHUNK):
+    """Illinois regula falsi for the root of f along each vertex's edge, in place.
 
     Vertex ``i`` lies at ``p0[i] + t[i] * h * e[axis[i]]``.  The bracket
     ``[a, b]`` (initially ``[0, 1]``, end values of opposite signs) is kept,
     so every vertex stays on its edge.  Only vertices whose value is still
     above ``tol * h`` are updated; those already within ``accept * h`` take
     that last update without being evaluated again.  Works on chunks of
-    vertices to bound the temporaries.  Returns the new parameters and the number of
-    evaluations spent.
+    vertices (`rows`, default all) to bound the temporaries; `t` is updated
+    in place.  Returns the number of evaluations spent.
     """
-    out = np.empty_like(t)
+    rows = np.arange(t.shape[0]) if rows is None else np.asarray(rows)
     spent = 0
-    for s0 in range(0, t.shape[0], chunk):
-        sl = slice(s0, s0 + chunk)
-        out[sl], used = _refine_chunk(solid, p0[sl], axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol, accept)
+    for s0 in range(0, rows.shape[0], chunk):
+        sl = rows[s0:s0 + chunk]
+        t[sl], used = _refine_chunk(solid, p0[sl], axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol, accept)
         spent += used
-    return out, spent
+    return spent
 
 
 def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol, accept):
