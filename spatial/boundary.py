@@ -516,11 +516,12 @@ def _certified(f0, f1, h, lip):
     """
     if not (np.isfinite(lip) and lip > 0):
         return np.zeros(f0.shape[0], dtype=bool)
-    a0 = np.abs(f0.astype(np.float64))
-    a1 = np.abs(f1.astype(np.float64))
-    floor = ZERO_NUDGE * h * (1 + 1e-3)
-    spare = lip * h - (a0 + a1)  # = L h w
-    return (spare <= REFINE_ACCEPT * h) & (a0 > floor) & (a1 > floor)
+    a0 = np.abs(f0)
+    a1 = np.abs(f1)
+    floor = np.float32(ZERO_NUDGE * h * (1 + 1e-3))
+    # L h w = L h - (|f0| + |f1|); single precision is ample against REFINE_ACCEPT
+    spare = np.float32(lip * h) - (a0 + a1)
+    return (spare <= np.float32(REFINE_ACCEPT * h)) & (a0 > floor) & (a1 > floor)
 
 
 # Offsets from a cell's centre node to the other 26 nodes of a cell of 2 voxels, by distance (in h).
@@ -633,17 +634,25 @@ class _SlabJob:
         return pos[hit], idx[hit, 0] - self.x0, ly[hit], lz[hit], val[hit]
 
     def _infer_around(self, sgn, b_, x_, y_, z_, v):
-        """Signs of the 26 neighbours of sampled nodes ``v`` farther than ``d`` from the level (``|v| > L d``)."""
-        B, h = self.B, self.h
+        """Signs of the 26 neighbours of sampled nodes ``v`` farther than ``d`` from the level (``|v| > L d``).
+
+        The sampled nodes lie strictly inside their block, so every neighbour
+        is a node of the same block.
+        """
+        n = self.B + 1
         gs = np.where(v < 0, -1, 1).astype(np.int8)
-        mag = np.abs(v.astype(np.float64))
-        for o, d in zip(_NEIGHBOURS, _NEIGHBOUR_DIST):
-            far = mag > self.lip * d * h * (1 + 1e-6)  # float32 values: a margin for their rounding
-            far &= (x_ + o[0] >= 0) & (x_ + o[0] <= B) & (y_ + o[1] >= 0) & (y_ + o[1] <= B)
-            far &= (z_ + o[2] >= 0) & (z_ + o[2] <= B)
-            if far.any():
-                sgn[b_[far], x_[far] + o[0], y_[far] + o[1], z_[far] + o[2]] = gs[far]
-        sgn[b_, x_, y_, z_] = gs
+        mag = np.abs(v)
+        base = ((b_.astype(np.int64) * n + x_) * n + y_) * n + z_
+        flat = sgn.reshape(-1)
+        step = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1)
+        for d in np.unique(_NEIGHBOUR_DIST):
+            # float32 values: a margin for their rounding
+            far = np.flatnonzero(mag > np.float32(self.lip * d * self.h * (1 + 1e-6)))
+            if far.size:
+                at, s = base[far], gs[far]
+                for off in step[_NEIGHBOUR_DIST == d]:
+                    flat[at + off] = s
+        flat[base] = gs
 
     def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
         """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
