@@ -124,10 +124,11 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
     found = _boundary_cells_2h(lattice, progress)
-    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2,
+    # popped, so that mesh_cells can release them once used
+    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, found.pop("cells"), cell_size=2,
                       refine=refine, progress=progress, evaluations=found["evaluations"], block=block,
-                      centre_values=found["centres"], uniform_cells=found["uniform"], node_values=found["nodes"],
-                      _stacklevel=3)
+                      centre_values=found.pop("centres"), uniform_cells=found.pop("uniform"),
+                      node_values=found.pop("nodes"), _stacklevel=3)
 
 
 def _boundary_cells_2h(lattice, progress):
@@ -270,8 +271,10 @@ def merge_blocks(parts):
     parts : list of (edges, shared, data, faces)
         Per block: global edge ids ``3 * node + axis`` of its vertices that
         may be shared with another block, the boolean mask of those vertices,
-        a tuple of per-vertex arrays (merged likewise) and the triangles
-        (local vertex indices).
+        a tuple of per-vertex arrays (merged likewise; a vertex found in two
+        blocks has the same data in both) and the triangles (local vertex
+        indices).  The list is emptied as it is merged, so that the memory
+        of the parts is released as the merged arrays fill.
 
     Returns
     -------
@@ -280,36 +283,36 @@ def merge_blocks(parts):
     faces : (f, 3) int32 (int64 beyond 2**31 vertices)
         Triangles indexing the merged vertices.
     """
-    parts = [p for p in parts if p[3].shape[0]]
+    parts[:] = [p for p in parts if p[3].shape[0]]
     if not parts:
         return None, np.empty((0, 3), np.int32)
     shared_edges = np.concatenate([p[0] for p in parts])
-    uniq, first, inverse = np.unique(shared_edges, return_index=True, return_inverse=True)
+    uniq, inverse = np.unique(shared_edges, return_inverse=True)
     del shared_edges
     n_private = sum(int(p[1].shape[0] - np.count_nonzero(p[1])) for p in parts)
     n_total = n_private + uniq.shape[0]
+    del uniq
     itype = np.int32 if n_total < 2 ** 31 else np.int64
-    n_data = len(parts[0][2])
-    data = []
-    for i in range(n_data):
-        private = np.concatenate([p[2][i][~p[1]] for p in parts])
-        shared = np.concatenate([p[2][i][p[1]] for p in parts])[first]
-        data.append(np.concatenate([private, shared]))
-        del private, shared
+    data = [np.empty((n_total,) + arr.shape[1:], dtype=arr.dtype) for arr in parts[0][2]]
     faces = np.empty((sum(p[3].shape[0] for p in parts), 3), dtype=itype)
     row = private_at = shared_at = 0
-    for p in parts:
-        sh = p[1]
+    for i in range(len(parts)):
+        _, sh, pdata, pfaces = parts[i]
+        parts[i] = None
         k_sh = int(np.count_nonzero(sh))
         k_pr = sh.shape[0] - k_sh
         index = np.empty(sh.shape[0], dtype=itype)
         index[~sh] = np.arange(private_at, private_at + k_pr, dtype=itype)
         index[sh] = n_private + inverse[shared_at:shared_at + k_sh]
-        k = p[3].shape[0]
-        faces[row:row + k] = index[p[3]]
+        for out, arr in zip(data, pdata):
+            out[private_at:private_at + k_pr] = arr[~sh]
+            out[index[sh]] = arr[sh]
+        k = pfaces.shape[0]
+        faces[row:row + k] = index[pfaces]
         row += k
         private_at += k_pr
         shared_at += k_sh
+    parts.clear()
     return tuple(data), faces
 
 
@@ -419,7 +422,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             raise ValueError("uniform_cells: expected as many signs as cells")
         order = np.argsort(u_idx[:, 0], kind="stable")
         uniform = (u_idx[order], u_sgn[order])
-        del order, u_idx, u_sgn
+        del order, u_idx, u_sgn, uniform_cells
     known = None
     if node_values is not None and np.isfinite(lip) and lip > 0:
         if c != 2:
@@ -430,7 +433,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             raise ValueError("node_values: expected as many values as nodes")
         order = np.argsort(k_idx[:, 0], kind="stable")
         known = (k_idx[order], _nudge(k_val[order], h).astype(np.float32))
-        del order, k_idx, k_val
+        del order, k_idx, k_val, node_values
     if not (np.isfinite(lip) and lip > 0):
         centre_infer = False
     else:
@@ -470,6 +473,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             bar.update()
     finally:
         bar.close()
+    n_cells = int(cells.shape[0])
+    del cells, slab_of, centre_values, uniform, known, handoff
     data, faces = merge_blocks(parts)
     del parts
     if faces.shape[0] == 0:
@@ -499,7 +504,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     out = pv.PolyData.from_regular_faces(p0, faces)
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
-    out.field_data["boundary_cells"] = np.array([int(cells.shape[0])], dtype=np.int64)
+    out.field_data["boundary_cells"] = np.array([n_cells], dtype=np.int64)
     out.field_data["blocks"] = np.array([n_blocks], dtype=np.int64)
     out.field_data["seconds"] = np.array([time.perf_counter() - t0])
     return out
@@ -790,7 +795,9 @@ class _SlabJob:
                 edges = ((node[:, 0] * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
                 on_plane = (node % B == 0) & (axis[:, None] != np.arange(3))
                 shared = on_plane.any(axis=1)
-                parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1), faces))
+                small = np.uint16 if node.shape[0] <= 1 << 16 else np.int32  # local indices of a block
+            parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1),
+                          faces.astype(small)))
 
 
 def _repeat2(arr, axis):
