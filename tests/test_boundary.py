@@ -5,6 +5,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from implicit import box, cylinder, halfspace, sphere, torus
 from spatial import mesh
@@ -179,3 +181,58 @@ def test_mesh_block_is_pure_and_keys_edges():
     assert len({tuple(r) for r in node.tolist()}) == 9
     # no sign change: nothing, no error
     assert mesh_block(np.ones((3, 3, 3), np.float32), mask)[4].shape == (0, 3)
+
+
+# ---------------------------------------------------------------------------
+# sampling: signs inferred instead of sampled never change the mesh
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("solid, n", [(benchmark_part(), 64), (torus(1.0, 0.35), 48),
+                                      (box(1.0) - sphere(0.6, center=(0.5, 0.5, 0.5)), 40)],
+                         ids=["benchmark", "torus", "box-sphere"])
+def test_inferred_signs_give_the_fully_sampled_mesh(solid, n):
+    from spatial.boundary import _boundary_cells_2h, mesh_cells
+    from spatial.octree import make_lattice
+
+    lattice = make_lattice(solid, resolution=n)
+    found = _boundary_cells_2h(lattice, False)
+    assert found["uniform"] is not None and found["nodes"] is not None
+    lean = mesh(solid, resolution=n, refine=False)
+    # every node of every boundary cell sampled: no centre values, no uniform cells, no known nodes
+    full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False)
+    assert lean.n_cells == full.n_cells and lean.n_points == full.n_points
+    assert np.allclose(np.sort(lean.points, axis=0), np.sort(full.points, axis=0), atol=1e-12)
+    assert lean.field_data["evaluations"][0] < full.field_data["evaluations"][0] + found["evaluations"]
+
+
+def test_benchmark_part_evaluation_budget():
+    # the budget of 6 M evaluations at N=512 is 375 k at N=128 (the cost follows the surface)
+    coarse = int(mesh(benchmark_part(), resolution=128).field_data["evaluations"][0])
+    finer = int(mesh(benchmark_part(), resolution=256).field_data["evaluations"][0])
+    assert coarse < 6e6 / 16
+    assert finer / coarse < 4.5
+
+
+def test_certified_vertices_skip_refinement():
+    from spatial.boundary import REFINE_ACCEPT, _certified
+
+    h = 0.1
+    f0 = np.array([-0.03, -0.03, -0.0001, -0.05], np.float32)
+    f1 = np.array([0.07, 0.06, 0.0999, 0.05], np.float32)
+    # square-on crossing (|f0| + |f1| = h): certified; slanted: not; a nudged end: not trusted
+    got = _certified(f0, f1, h, 1.0)
+    assert got.tolist() == [True, False, False, True]
+    # a looser Lipschitz constant widens the bracket
+    assert not _certified(f0[:1], f1[:1], h, 1.0 + 2 * REFINE_ACCEPT)[0]
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(shape=st.lists(st.integers(1, 5), min_size=1, max_size=4), axis=st.integers(0, 3),
+       dtype=st.sampled_from([np.bool_, np.int8, np.uint8]))
+def test_repeat2_is_numpy_repeat(shape, axis, dtype):
+    from spatial.boundary import _repeat2
+
+    axis = axis % len(shape)
+    arr = (np.arange(int(np.prod(shape))).reshape(shape) % 3 - 1).astype(dtype)
+    assert np.array_equal(_repeat2(arr, axis), np.repeat(arr, 2, axis=axis))
+    assert np.array_equal(_repeat2(arr, -1), np.repeat(arr, 2, axis=-1))
