@@ -3,12 +3,18 @@
 `mesh` decomposes a solid into an octree (`spatial.octree`) down to cells of
 twice the voxel size, keeps their BOUNDARY cells and meshes only them:
 
-1. the lattice nodes (spacing ``h``) of the boundary cells are sampled, slab
-   by slab along x, in dense arrays of the slab's active blocks only (the
-   work follows the surface); every node is evaluated exactly once (a node on
-   a face shared by two blocks is merged by its integer id, one on the plane
-   between two slabs is evaluated by the first slab and handed to the next),
-   so the blocks on both sides of a face see one value and agree on its sign;
+1. the lattice nodes (spacing ``h``) of the boundary cells are considered
+   slab by slab along x, in dense arrays of the slab's active blocks only
+   (the work follows the surface), in two passes: first the nodes whose sign
+   is not already known -- the classification sampled the cells' centres,
+   and a node at distance ``d`` from a sampled node ``v`` with ``|v| > L d``,
+   or held by a cell found uniform, has that node's sign (``L`` the solid's
+   Lipschitz constant) -- then the ends of crossing edges still without a
+   value.  Every node is evaluated at most once (a node on a face shared by
+   two blocks is merged by its integer id, one on the plane between two
+   slabs is handed to the next slab), so the blocks on both sides of a face
+   see one value and agree on its sign.  Inferred signs are exact, so the
+   mesh is the one full sampling gives (tested) at about 60 % of the cost;
 2. the cells are grouped into blocks of ``block**3`` voxels; every block is
    meshed independently by scikit-image's Lewiner marching cubes restricted
    (``mask=``) to the voxels of its boundary cells -- a pure function of the
@@ -18,7 +24,9 @@ twice the voxel size, keeps their BOUNDARY cells and meshes only them:
    the edge's lower node): no floating-point de-duplication (`merge_blocks`);
 4. vertices are moved onto the true surface along their edge by a few
    vectorized regula-falsi (Illinois) steps bracketed by the edge's two
-   samples, so a vertex never leaves its edge.
+   samples, so a vertex never leaves its edge; a vertex whose edge samples
+   already prove it within ``REFINE_ACCEPT * h`` of the level (an edge
+   crossing a flat face square on) is left where it is, unevaluated.
 
 Cells classified FULL or EMPTY hold samples of one strict sign only (the
 classification is conservative), so no triangle is lost by skipping them, and
@@ -477,6 +485,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     del cells, slab_of, centre_values, uniform, known, handoff
     data, faces = merge_blocks(parts)
     del parts
+    _release_free_memory()
     if faces.shape[0] == 0:
         warnings.warn("mesh: no surface crosses the sampled nodes (features thinner than the voxel size?); "
                       "returning an empty mesh", RuntimeWarning, stacklevel=_stacklevel)
@@ -508,6 +517,27 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     out.field_data["blocks"] = np.array([n_blocks], dtype=np.int64)
     out.field_data["seconds"] = np.array([time.perf_counter() - t0])
     return out
+
+
+def _release_free_memory():
+    """Hand the heap pages freed by the slabs and parts back to the system (glibc only).
+
+    The slabs' temporaries and the merged parts leave the heap fragmented; the
+    vertex stage that follows would otherwise add its arrays on top of it.
+    """
+    global _MALLOC_TRIM
+    if _MALLOC_TRIM is None:
+        try:
+            import ctypes
+
+            _MALLOC_TRIM = ctypes.CDLL("libc.so.6").malloc_trim
+        except (OSError, AttributeError):
+            _MALLOC_TRIM = False
+    if _MALLOC_TRIM:
+        _MALLOC_TRIM(0)
+
+
+_MALLOC_TRIM = None
 
 
 def _certified(f0, f1, h, lip):
