@@ -826,8 +826,8 @@ class _SlabJob:
                 on_plane = (node % B == 0) & (axis[:, None] != np.arange(3))
                 shared = on_plane.any(axis=1)
                 small = np.uint16 if node.shape[0] <= 1 << 16 else np.int32  # local indices of a block
-            parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1),
-                          faces.astype(small)))
+                parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1),
+                              faces.astype(small)))
 
 
 def _repeat2(arr, axis):
