@@ -420,28 +420,12 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         centre_values = np.asarray(centre_values, dtype=np.float64).reshape(-1)
         if centre_values.shape[0] != cells.shape[0]:
             raise ValueError(f"centre_values: expected {cells.shape[0]} values, got {centre_values.shape[0]}")
-    uniform = None
-    if uniform_cells is not None and np.isfinite(lip) and lip > 0:
-        if c != 2:
-            raise ValueError("uniform_cells: only for cells of 2 voxels")
-        u_idx = np.asarray(uniform_cells[0], dtype=np.int32).reshape(-1, 3)
-        u_sgn = np.asarray(uniform_cells[1], dtype=np.int8).reshape(-1)
-        if u_idx.shape[0] != u_sgn.shape[0]:
-            raise ValueError("uniform_cells: expected as many signs as cells")
-        order = np.argsort(u_idx[:, 0], kind="stable")
-        uniform = (u_idx[order], u_sgn[order])
-        del order, u_idx, u_sgn, uniform_cells
-    known = None
-    if node_values is not None and np.isfinite(lip) and lip > 0:
-        if c != 2:
-            raise ValueError("node_values: only for cells of 2 voxels")
-        k_idx = np.asarray(node_values[0], dtype=np.int64).reshape(-1, 3)
-        k_val = np.asarray(node_values[1], dtype=np.float64).reshape(-1)
-        if k_idx.shape[0] != k_val.shape[0]:
-            raise ValueError("node_values: expected as many values as nodes")
-        order = np.argsort(k_idx[:, 0], kind="stable")
-        known = (k_idx[order], _nudge(k_val[order], h).astype(np.float32))
-        del order, k_idx, k_val, node_values
+    usable = np.isfinite(lip) and lip > 0  # inference needs a finite Lipschitz constant
+    uniform = _by_x(uniform_cells, "uniform_cells", "signs", np.int32, np.int8, c) if usable else None
+    known = _by_x(node_values, "node_values", "values", np.int64, np.float64, c) if usable else None
+    if known is not None:
+        known = (known[0], _nudge(known[1], h).astype(np.float32))
+    del uniform_cells, node_values
     if not (np.isfinite(lip) and lip > 0):
         centre_infer = False
     else:
@@ -517,6 +501,20 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     out.field_data["blocks"] = np.array([n_blocks], dtype=np.int64)
     out.field_data["seconds"] = np.array([time.perf_counter() - t0])
     return out
+
+
+def _by_x(pair, name, what, index_type, value_type, cell_size):
+    """``(indices (k, 3), per-row values)`` checked and sorted by x, or None."""
+    if pair is None:
+        return None
+    if cell_size != 2:
+        raise ValueError(f"{name}: only for cells of 2 voxels")
+    idx = np.asarray(pair[0], dtype=index_type).reshape(-1, 3)
+    val = np.asarray(pair[1], dtype=value_type).reshape(-1)
+    if idx.shape[0] != val.shape[0]:
+        raise ValueError(f"{name}: expected as many {what} as rows, got {val.shape[0]} for {idx.shape[0]}")
+    order = np.argsort(idx[:, 0], kind="stable")
+    return idx[order], val[order]
 
 
 def _release_free_memory():
