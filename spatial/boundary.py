@@ -247,24 +247,44 @@ def mesh_block(values, mask):
     >>> faces.shape, sorted(set(axis.tolist()))
     ((2, 3), [0])
     """
+    verts, faces = _marching_cubes(values, mask)
+    if verts is None:
+        return (np.empty((0, 3), np.int64), np.empty(0, np.int64), np.empty(0, np.float32),
+                np.empty(0, np.float32), np.empty((0, 3), np.int32))
+    node, axis = _edges_of(verts)
+    node = node.astype(np.int64)
+    f0 = values[node[:, 0], node[:, 1], node[:, 2]]
+    upper = node.copy()
+    upper[np.arange(node.shape[0]), axis] += 1
+    f1 = values[upper[:, 0], upper[:, 1], upper[:, 2]]
+    return node, axis.astype(np.int64), f0, f1, faces.astype(np.int32)
+
+
+def _marching_cubes(values, mask):
+    """scikit-image's Lewiner marching cubes at level 0: ``(vertices, faces)``, or ``(None, None)``
+    when no surface crosses the block."""
     from skimage.measure import marching_cubes
 
     try:
         verts, faces, _, _ = marching_cubes(values, 0.0, mask=mask, allow_degenerate=True)
     except (RuntimeError, ValueError):
         # No sign change in the block ('No surface found' / level out of range).
-        return (np.empty((0, 3), np.int64), np.empty(0, np.int64), np.empty(0, np.float32),
-                np.empty(0, np.float32), np.empty((0, 3), np.int32))
+        return None, None
+    return verts, faces
+
+
+def _edges_of(verts):
+    """Lower node (int32) and axis of the lattice edge each vertex lies on.
+
+    Marching cubes puts every vertex strictly inside an edge (no sample is 0):
+    two coordinates are integers, the third is the fractional one.
+    """
     rounded = np.rint(verts)
     axis = np.argmax(np.abs(verts - rounded), axis=1)
-    node = rounded.astype(np.int64)
+    node = rounded.astype(np.int32)
     rows = np.arange(verts.shape[0])
-    node[rows, axis] = np.floor(verts[rows, axis]).astype(np.int64)
-    f0 = values[node[:, 0], node[:, 1], node[:, 2]]
-    upper = node.copy()
-    upper[rows, axis] += 1
-    f1 = values[upper[:, 0], upper[:, 1], upper[:, 2]]
-    return node, axis.astype(np.int64), f0, f1, faces.astype(np.int32)
+    node[rows, axis] = np.floor(verts[rows, axis])
+    return node, axis
 
 
 def merge_blocks(parts):
@@ -806,6 +826,8 @@ class _SlabJob:
         highs = np.zeros((self.nb, 3), dtype=np.int64)
         np.minimum.at(lows, inv, local)
         np.maximum.at(highs, inv, local + 1)
+        verts, faces, counts, origins = [], [], [], []
+        n_verts = 0
         for b in range(self.nb):
             box_lo, box_hi = lows[b].tolist(), highs[b].tolist()
             cb = cells[b, box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
@@ -817,15 +839,39 @@ class _SlabJob:
             vol = np.ascontiguousarray(values[box])
             mask = np.zeros(vol.shape, dtype=bool)
             mask[1:, 1:, 1:] = cb
-            node, axis, f0, f1, faces = mesh_block(vol, mask)
-            if faces.shape[0]:
-                node += (xs + x0, ys + int(self.bys[b]) * B, zs + int(self.bzs[b]) * B)
-                edges = ((node[:, 0] * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
-                on_plane = (node % B == 0) & (axis[:, None] != np.arange(3))
-                shared = on_plane.any(axis=1)
-                small = np.uint16 if node.shape[0] <= 1 << 16 else np.int32  # local indices of a block
-                parts.append((edges[shared], shared, (node.astype(np.int32), axis.astype(np.uint8), f0, f1),
-                              faces.astype(small)))
+            v, f = _marching_cubes(vol, mask)
+            if v is None or f.shape[0] == 0:
+                continue
+            verts.append(v)
+            faces.append(f + n_verts if n_verts else f)
+            counts.append(v.shape[0])
+            origins.append((b, xs, ys, zs))
+            n_verts += v.shape[0]
+        if not verts:
+            return
+        # the slab's vertices at once: their lattice edges, end samples and global edge ids
+        verts = np.concatenate(verts)
+        faces = np.concatenate(faces).astype(np.int32 if n_verts < 2 ** 31 else np.int64)
+        where = np.repeat(np.asarray(origins, dtype=np.int32), counts, axis=0)
+        node, axis = _edges_of(verts)
+        del verts
+        node += where[:, 1:]
+        blk = where[:, 0]
+        del where
+        f0 = values[blk, node[:, 0], node[:, 1], node[:, 2]]
+        upper = node.copy()
+        upper[np.arange(n_verts), axis] += 1
+        f1 = values[blk, upper[:, 0], upper[:, 1], upper[:, 2]]
+        del upper
+        node[:, 0] += x0
+        node[:, 1] += (self.bys[blk] * B).astype(np.int32)
+        node[:, 2] += (self.bzs[blk] * B).astype(np.int32)
+        del blk
+        wide = node.astype(np.int64)
+        edges = ((wide[:, 0] * stride + wide[:, 1]) * stride + wide[:, 2]) * 3 + axis
+        del wide
+        shared = ((node % B == 0) & (axis[:, None] != np.arange(3))).any(axis=1)
+        parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
 
 
 def _repeat2(arr, axis):
