@@ -578,6 +578,9 @@ def _certified(f0, f1, h, lip):
     return (spare <= np.float32(REFINE_ACCEPT * h)) & (a0 > floor) & (a1 > floor)
 
 
+# Bits of a node's code while a slab is sampled.
+NEEDED, POSITIVE, NEGATIVE = 1, 2, 4
+
 # Offsets from a cell's centre node to the other 26 nodes of a cell of 2 voxels, by distance (in h).
 _NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                         if (i, j, k) != (0, 0, 0)], dtype=np.int64)
@@ -635,27 +638,31 @@ class _SlabJob:
             need = grown
         return need
 
-    def _ring_signs(self, ring):
-        """Signs the uniform cells give to the nodes of the slab's blocks, ``(nb, B+1, B+1, B+1)`` int8.
+    def _node_codes(self, sc, ring):
+        """What each node of the slab's blocks is known to be, ``(nb, B+1, B+1, B+1)`` uint8 (cells of 2 voxels).
 
-        A block's nodes are held by the cells of its ring ``[-1, P]`` (local
-        cell coordinates, P cells per side); a uniform cell on a block's side
-        belongs to the rings of up to 8 blocks.
+        Bit `NEEDED` marks the nodes of boundary cells, `POSITIVE` / `NEGATIVE`
+        the sign given by a uniform cell holding the node.  A block's nodes
+        are held by the cells of its ring ``[-1, P]`` (local cell coordinates,
+        P cells per side), read from the slab's cell states over the y/z span
+        of its active blocks; the codes go from cells to nodes by an OR, which
+        keeps every bit since the signs of uniform cells agree.
         """
-        P, nb = self.P, self.nb
-        idx, sgn = ring
-        # the slab's cell states over the y/z span of its active blocks, one ring of cells around
+        P = self.P
         y0, y1 = int(self.bys.min()) * P - 1, (int(self.bys.max()) + 1) * P + 1
         z0, z1 = int(self.bzs.min()) * P - 1, (int(self.bzs.max()) + 1) * P + 1
-        sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
-        state = np.zeros((P + 2, y1 - y0, z1 - z0), dtype=np.int8)
-        state[idx[sel, 0] - (self.slab * P - 1), idx[sel, 1] - y0, idx[sel, 2] - z0] = sgn[sel]
+        xc = self.slab * P - 1
+        state = np.zeros((P + 2, y1 - y0, z1 - z0), dtype=np.uint8)
+        if ring is not None and ring[0].shape[0]:
+            idx, sgn = ring
+            sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
+            state[idx[sel, 0] - xc, idx[sel, 1] - y0, idx[sel, 2] - z0] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
+        state[sc[:, 0] - xc, sc[:, 1] - y0, sc[:, 2] - z0] = NEEDED
         ry = (self.bys * P - 1 - y0)[:, None] + np.arange(P + 2)
         rz = (self.bzs * P - 1 - z0)[:, None] + np.arange(P + 2)
-        out = state[:, ry[:, :, None], rz[:, None, :]]  # (P+2, nb, P+2, P+2)
-        out = np.moveaxis(out, 0, 1)
+        out = np.moveaxis(state[:, ry[:, :, None], rz[:, None, :]], 0, 1)  # (nb, P+2, P+2, P+2)
         # cells -> nodes, axis by axis: node j lies in ring cells (j+1)//2 and (j+2)//2, i.e. between
-        # entries j+1 and j+2 of the ring repeated twice; consistent signs: OR keeps the nonzero one
+        # entries j+1 and j+2 of the ring repeated twice
         for ax in (1, 2, 3):
             twice = _repeat2(out, ax)
             a_sl = [slice(None)] * 4
@@ -676,17 +683,18 @@ class _SlabJob:
         hit = (self.keys[pos] == key) & (ly != 0) & (lz != 0)
         return pos[hit], idx[hit, 0] - self.x0, ly[hit], lz[hit], val[hit]
 
-    def _infer_around(self, sgn, b_, x_, y_, z_, v):
+    def _infer_around(self, code, b_, x_, y_, z_, v):
         """Signs of the 26 neighbours of sampled nodes ``v`` farther than ``d`` from the level (``|v| > L d``).
 
-        The sampled nodes lie strictly inside their block, so every neighbour
-        is a node of the same block.
+        Written as `POSITIVE` / `NEGATIVE` bits into the node codes.  The
+        sampled nodes lie strictly inside their block, so every neighbour is
+        a node of the same block.
         """
         n = self.B + 1
-        gs = np.where(v < 0, -1, 1).astype(np.int8)
+        gs = np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
         mag = np.abs(v)
         base = ((b_.astype(np.int64) * n + x_) * n + y_) * n + z_
-        flat = sgn.reshape(-1)
+        flat = code.reshape(-1)
         step = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1)
         for d in np.unique(_NEIGHBOUR_DIST):
             # float32 values: a margin for their rounding
@@ -694,18 +702,15 @@ class _SlabJob:
             if far.size:
                 at, s = base[far], gs[far]
                 for off in step[_NEIGHBOUR_DIST == d]:
-                    flat[at + off] = s
-        flat[base] = gs
+                    flat[at + off] |= s
+        flat[base] |= gs
 
     def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
         """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
         B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
         cells = self._blocks(sc)
-        need = self._needed(cells)
-        shape = need.shape
-        sgn = np.zeros(shape, dtype=np.int8)
-        if ring is not None and ring[0].shape[0]:
-            sgn |= self._ring_signs(ring)
+        code = self._node_codes(sc, ring) if c == 2 else self._needed(cells).view(np.uint8)
+        shape = code.shape
         sampled = []  # (block, x, y, z, value) of nodes already sampled
         if given is not None:
             b_, x_, y_, z_ = self.cl
@@ -714,12 +719,11 @@ class _SlabJob:
             sampled.append(self._known_in_blocks(extra))
         for b_, x_, y_, z_, v in sampled:
             if centre_infer:
-                self._infer_around(sgn, b_, x_, y_, z_, v)
+                self._infer_around(code, b_, x_, y_, z_, v)
             else:
-                sgn[b_, x_, y_, z_] = np.where(v < 0, -1, 1)
+                code[b_, x_, y_, z_] |= np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
         # -- the needed nodes as a list, with global ids -----------------------------------
-        flat = np.flatnonzero(need)
-        del need
+        flat = np.flatnonzero((code.reshape(-1) & NEEDED).view(bool))  # NEEDED is bit 0: 0/1 bytes
         n3 = (B + 1) ** 3
         blk, rest = np.divmod(flat, n3)
         # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
@@ -730,7 +734,8 @@ class _SlabJob:
         gy = self.bys[blk] * B + lj
         gz = self.bzs[blk] * B + lk
         gid = ((li + x0) * stride + gy) * stride + gz
-        s_n = sgn.reshape(-1)[flat]
+        s_n = code.reshape(-1)[flat]
+        s_n = ((s_n >> 1) & 1).astype(np.int8) - ((s_n >> 2) & 1).astype(np.int8)
         v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
         for b_, x_, y_, z_, v in sampled:
             # nodes already sampled (never on a block face) hold their values
@@ -779,7 +784,8 @@ class _SlabJob:
         v_n[m_idx] = v_u[back]
         del t1, t1u, a, b
         # -- pass 2: ends of crossing edges without a value --------------------------------
-        sgn = np.zeros(shape, dtype=np.int8)
+        sgn = code.view(np.int8)  # the codes are spent: their memory holds the signs
+        sgn[...] = 0
         sgn.reshape(-1)[flat] = s_n
         want = np.zeros(shape, dtype=bool)
         for ax in (1, 2, 3):
