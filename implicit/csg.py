@@ -64,65 +64,65 @@ def _intersection_bounds(children):
     return los.max(axis=0), his.min(axis=0)
 
 
-class Union(Solid):
+class _SharpBoolean(Solid):
+    """A sharp boolean: the first child's field folded with each other child's
+    by ``min`` or ``max`` (`_fold`), the others negated when `_negate_tools`."""
+
+    __slots__ = ()
+    _negate_tools = False
+
+    def __init__(self, children, bounds):
+        super().__init__(children, {}, bounds, exact=False, lipschitz=max(c.lipschitz for c in children))
+
+    def _evaluate(self, p):
+        out = np.array(self._children[0]._evaluate(p), dtype=np.float64, copy=True)
+        for child in self._children[1:]:
+            value = child._evaluate(p)
+            self._fold(out, -value if self._negate_tools else value, out=out)
+        return out
+
+
+class Union(_SharpBoolean):
     """Union of any number of solids: ``min`` of their fields."""
 
     kind = "union"
     __slots__ = ()
+    _fold = np.minimum
 
     def __init__(self, *children):
         if len(children) < 1:
             raise ValueError("union: expected at least one solid")
         _check(children, "union")
-        super().__init__(children, {}, _union_bounds(children),
-                         exact=False, lipschitz=max(c.lipschitz for c in children))
-
-    def _evaluate(self, p):
-        out = self._children[0]._evaluate(p)
-        out = np.array(out, dtype=np.float64, copy=True)
-        for child in self._children[1:]:
-            np.minimum(out, child._evaluate(p), out=out)
-        return out
+        super().__init__(children, _union_bounds(children))
 
 
-class Intersection(Solid):
+class Intersection(_SharpBoolean):
     """Intersection of any number of solids: ``max`` of their fields."""
 
     kind = "intersection"
     __slots__ = ()
+    _fold = np.maximum
 
     def __init__(self, *children):
         if len(children) < 1:
             raise ValueError("intersection: expected at least one solid")
         _check(children, "intersection")
-        super().__init__(children, {}, _intersection_bounds(children),
-                         exact=False, lipschitz=max(c.lipschitz for c in children))
-
-    def _evaluate(self, p):
-        out = np.array(self._children[0]._evaluate(p), dtype=np.float64, copy=True)
-        for child in self._children[1:]:
-            np.maximum(out, child._evaluate(p), out=out)
-        return out
+        super().__init__(children, _intersection_bounds(children))
 
 
-class Difference(Solid):
+class Difference(_SharpBoolean):
     """``a`` minus the union of the others: ``max(a, -b, -c, ...)``."""
 
     kind = "difference"
     __slots__ = ()
+    _fold = np.maximum
+    _negate_tools = True
 
     def __init__(self, base, *tools):
         if not tools:
             raise ValueError("difference: expected a base solid and at least one solid to subtract")
         _check((base,) + tools, "difference")
-        super().__init__((base,) + tools, {}, base.bounds if isinstance(base, Solid) else INFINITE_BOUNDS,
-                         exact=False, lipschitz=max(c.lipschitz for c in (base,) + tools))
-
-    def _evaluate(self, p):
-        out = np.array(self._children[0]._evaluate(p), dtype=np.float64, copy=True)
-        for child in self._children[1:]:
-            np.maximum(out, -child._evaluate(p), out=out)
-        return out
+        super().__init__((base,) + tools, base.bounds if isinstance(base, Solid) else INFINITE_BOUNDS)
 
 
 class Complement(Solid):
@@ -250,6 +250,17 @@ def _check(solids, name):
             raise TypeError(f"{name}: argument {i} must be a Solid, got {type(s).__name__}")
 
 
+def _flattened(cls, solids):
+    """One `cls` node over `solids`, nested `cls` nodes spliced in (a lone solid is itself)."""
+    _check(solids, cls.kind)
+    if not solids:
+        raise ValueError(f"{cls.kind}: expected at least one solid")
+    flat = []
+    for s in solids:
+        flat.extend(s.children if type(s) is cls else (s,))
+    return flat[0] if len(flat) == 1 else cls(*flat)
+
+
 @register_operator("union")
 def union(*solids: Solid) -> Solid:
     """Union of solids (``a | b | ...``); nested unions are flattened.
@@ -261,25 +272,13 @@ def union(*solids: Solid) -> Solid:
     >>> u.count_primitives()
     2
     """
-    _check(solids, "union")
-    if not solids:
-        raise ValueError("union: expected at least one solid")
-    flat = []
-    for s in solids:
-        flat.extend(s.children if type(s) is Union else (s,))
-    return flat[0] if len(flat) == 1 else Union(*flat)
+    return _flattened(Union, solids)
 
 
 @register_operator("intersection")
 def intersection(*solids: Solid) -> Solid:
     """Intersection of solids (``a & b & ...``); nested ones are flattened."""
-    _check(solids, "intersection")
-    if not solids:
-        raise ValueError("intersection: expected at least one solid")
-    flat = []
-    for s in solids:
-        flat.extend(s.children if type(s) is Intersection else (s,))
-    return flat[0] if len(flat) == 1 else Intersection(*flat)
+    return _flattened(Intersection, solids)
 
 
 @register_operator("difference")
