@@ -34,6 +34,7 @@ from scipy.spatial import cKDTree
 from parametric.curves import NURBS, Bezier, BSpline, Curve, Hermite
 
 from .solid import Solid
+from .surface_projection import _from_typed_dict
 from .sweeps import Extrude, Profile, Revolve
 
 __all__ = [
@@ -97,28 +98,26 @@ def curve_to_dict(curve) -> dict:
     raise TypeError(f"curve: expected a Bezier, BSpline, NURBS or Hermite curve, got {type(curve).__name__}")
 
 
+def _hermite_from_dict(data):
+    g = np.asarray(data["geometry"], dtype=float)
+    return Hermite(g[0], g[1], g[2], g[3])
+
+
+_CURVE_BUILDERS = {
+    "nurbs": lambda d: NURBS(d["control_points"], d["weights"], d["degree"], d["knots"]),
+    "bspline": lambda d: BSpline(d["control_points"], d["degree"], d["knots"]),
+    "bezier": lambda d: Bezier(d["control_points"]),
+    "hermite": _hermite_from_dict,
+}
+
+
 def curve_from_dict(data, name: str = "curve") -> Curve:
     """Rebuild a curve from `curve_to_dict` output (a `Curve` passes through)."""
     if isinstance(data, Curve):
         return data
     if not isinstance(data, dict):
         raise TypeError(f"{name}: expected a parametric curve or its dict, got {type(data).__name__}")
-    kind = data.get("type")
-    try:
-        if kind == "nurbs":
-            return NURBS(data["control_points"], data["weights"], data["degree"], data["knots"])
-        if kind == "bspline":
-            return BSpline(data["control_points"], data["degree"], data["knots"])
-        if kind == "bezier":
-            return Bezier(data["control_points"])
-        if kind == "hermite":
-            g = np.asarray(data["geometry"], dtype=float)
-            return Hermite(g[0], g[1], g[2], g[3])
-    except KeyError as exc:
-        raise ValueError(f"{name}: missing key {exc.args[0]!r} for a {kind} curve") from None
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name}: {exc}") from None
-    raise ValueError(f"{name}.type: expected 'nurbs', 'bspline', 'bezier' or 'hermite', got {kind!r}")
+    return _from_typed_dict(data, name, "curve", _CURVE_BUILDERS)
 
 
 def _hull_box(curve, samples):

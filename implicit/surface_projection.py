@@ -50,6 +50,25 @@ WINDING_GRID = 48
 # surfaces and volumes as plain data
 # ---------------------------------------------------------------------------
 
+def _from_typed_dict(data, name, what, builders):
+    """``builders[data["type"]](data)``; an unknown type, a missing key or a
+    refused value raise one ValueError naming `name` (the kinds listed in the
+    order of `builders`)."""
+    kind = data.get("type")
+    # an unhashable tag is simply an unknown type, as with any other bad value
+    build = builders.get(kind) if isinstance(kind, str) else None
+    if build is not None:
+        try:
+            return build(data)
+        except KeyError as exc:
+            raise ValueError(f"{name}: missing key {exc.args[0]!r} for a {kind} {what}") from None
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{name}: {exc}") from None
+    known = [repr(k) for k in builders]
+    expected = known[0] if len(known) == 1 else ", ".join(known[:-1]) + " or " + known[-1]
+    raise ValueError(f"{name}.type: expected {expected}, got {kind!r}")
+
+
 def surface_to_dict(surface) -> dict:
     """A tensor-product surface as plain JSON values.
 
@@ -86,6 +105,21 @@ def surface_to_dict(surface) -> dict:
                     f"got {type(surface).__name__}")
 
 
+_SURFACE_BUILDERS = {
+    "nurbs": lambda d: NURBSSurface(d["control_points"], d["weights"], d["degree_u"], d["degree_v"],
+                                    d["knots_u"], d["knots_v"]),
+    "bspline": lambda d: BSplineSurface(d["control_points"], d["degree_u"], d["degree_v"],
+                                        d["knots_u"], d["knots_v"]),
+    "bezier": lambda d: BezierSurface(d["control_points"]),
+}
+
+_VOLUME_BUILDERS = {
+    "nurbs": lambda d: NURBSVolume(d["control_points"], d["weights"], d["degrees"], d["knots"]),
+    "bspline": lambda d: BSplineVolume(d["control_points"], d["degrees"], d["knots"]),
+    "bezier": lambda d: BezierVolume(d["control_points"]),
+}
+
+
 def surface_from_dict(data, name: str = "surface") -> Surface:
     """Rebuild a surface from `surface_to_dict` output (a surface passes through)."""
     if isinstance(data, BicubicPatch):
@@ -95,21 +129,7 @@ def surface_from_dict(data, name: str = "surface") -> Surface:
         return data
     if not isinstance(data, dict):
         raise TypeError(f"{name}: expected a tensor-product surface or its dict, got {type(data).__name__}")
-    kind = data.get("type")
-    try:
-        if kind == "bezier":
-            return BezierSurface(data["control_points"])
-        if kind == "bspline":
-            return BSplineSurface(data["control_points"], data["degree_u"], data["degree_v"],
-                                  data["knots_u"], data["knots_v"])
-        if kind == "nurbs":
-            return NURBSSurface(data["control_points"], data["weights"], data["degree_u"], data["degree_v"],
-                                data["knots_u"], data["knots_v"])
-    except KeyError as exc:
-        raise ValueError(f"{name}: missing key {exc.args[0]!r} for a {kind} surface") from None
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name}: {exc}") from None
-    raise ValueError(f"{name}.type: expected 'nurbs', 'bspline' or 'bezier', got {kind!r}")
+    return _from_typed_dict(data, name, "surface", _SURFACE_BUILDERS)
 
 
 def volume_to_dict(volume) -> dict:
@@ -133,19 +153,7 @@ def volume_from_dict(data, name: str = "volume") -> BSplineVolume:
         return data
     if not isinstance(data, dict):
         raise TypeError(f"{name}: expected a BSplineVolume or its dict, got {type(data).__name__}")
-    kind = data.get("type")
-    try:
-        if kind == "bezier":
-            return BezierVolume(data["control_points"])
-        if kind == "bspline":
-            return BSplineVolume(data["control_points"], data["degrees"], data["knots"])
-        if kind == "nurbs":
-            return NURBSVolume(data["control_points"], data["weights"], data["degrees"], data["knots"])
-    except KeyError as exc:
-        raise ValueError(f"{name}: missing key {exc.args[0]!r} for a {kind} volume") from None
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name}: {exc}") from None
-    raise ValueError(f"{name}.type: expected 'nurbs', 'bspline' or 'bezier', got {kind!r}")
+    return _from_typed_dict(data, name, "volume", _VOLUME_BUILDERS)
 
 
 # ---------------------------------------------------------------------------
