@@ -19,9 +19,10 @@ from __future__ import annotations
 
 import os
 import re
-import tempfile
 
 import numpy as np
+
+from .io import _atomic_write
 
 __all__ = ["FEA_FORMATS", "fea_format", "write_fea", "to_meshio", "set_name"]
 
@@ -107,25 +108,6 @@ def to_meshio(mesh, *, with_boundary: bool = True):
     return meshio.Mesh(np.asarray(mesh.points), cells, point_sets=point_sets, cell_sets=cell_sets)
 
 
-def _atomic(path, write):
-    """Call ``write(tmp_path)`` then move the result onto `path`."""
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    ext = os.path.splitext(path)[1]
-    fd, tmp = tempfile.mkstemp(prefix=".implicad-", suffix=ext, dir=folder)
-    os.close(fd)
-    try:
-        write(tmp)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def _write_gmsh(mesh, path, version):
     import meshio
 
@@ -153,7 +135,7 @@ def _write_gmsh(mesh, path, version):
     m = meshio.Mesh(np.asarray(mesh.points), cells, cell_data={"gmsh:physical": phys, "gmsh:geometrical": geom},
                     point_data=point_data, field_data=field_data)
     fmt = "gmsh22" if version == "2.2" else "gmsh"
-    _atomic(path, lambda tmp: meshio.write(tmp, m, file_format=fmt, binary=False))
+    _atomic_write(path, lambda tmp: meshio.write(tmp, m, file_format=fmt, binary=False))
 
 
 def _write_inp(mesh, path):
@@ -183,7 +165,7 @@ def _write_inp(mesh, path):
         with open(tmp, "a", encoding="ascii") as fh:
             fh.write("\n".join(lines) + "\n")
 
-    _atomic(path, write)
+    _atomic_write(path, write)
 
 
 def _write_vtu(mesh, path):
@@ -198,7 +180,7 @@ def _write_vtu(mesh, path):
         point_data[f"nodeset_{set_name(k)}"] = mask
     m = meshio.Mesh(np.asarray(mesh.points), [(_cell_type(mesh), np.asarray(mesh.tets)), (tri_type, tri)],
                     point_data=point_data, cell_data={"region": [np.zeros(len(mesh.tets), dtype=np.int64), region]})
-    _atomic(path, lambda tmp: meshio.write(tmp, m, file_format="vtu"))
+    _atomic_write(path, lambda tmp: meshio.write(tmp, m, file_format="vtu"))
 
 
 def _write_bdf(mesh, path):
@@ -237,14 +219,14 @@ def _write_bdf(mesh, path):
         with open(tmp, "w", encoding="ascii") as fh:
             fh.write("\n".join(out) + "\n")
 
-    _atomic(path, write)
+    _atomic_write(path, write)
 
 
 def _write_surface(mesh, path):
     import pyvista as pv
 
     surf = pv.PolyData.from_regular_faces(np.asarray(mesh.points), np.asarray(mesh.boundary)).clean()
-    _atomic(path, lambda tmp: surf.save(tmp))
+    _atomic_write(path, lambda tmp: surf.save(tmp))
 
 
 def write_fea(mesh, path, *, format_version: str = "4.1") -> str:

@@ -44,14 +44,18 @@ def mesh_format(path) -> str:
     return ext
 
 
-def _atomic_write(path, write, suffix):
+def _atomic_write(path, write, suffix=None):
     """Call ``write(tmp_path)`` then rename the temporary file onto `path`.
 
     The temporary name lives in the destination's directory (so the rename is
     atomic) and is created by the writer itself, so the file gets the usual
-    permissions (umask) rather than a private temporary file's.
+    permissions (umask) rather than a private temporary file's.  It ends in
+    `suffix` (default: the extension of `path`) for writers that choose the
+    format by it.
     """
     path = os.fspath(path)
+    if suffix is None:
+        suffix = os.path.splitext(path)[1]
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
         raise FileNotFoundError(2, "No such directory", directory)
