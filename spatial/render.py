@@ -16,10 +16,11 @@ Examples
 from __future__ import annotations
 
 import os
-import tempfile
 from typing import Mapping
 
 import numpy as np
+
+from .io import _atomic_write
 
 __all__ = ["STYLES", "VIEWS", "render", "render_views", "exploded_view", "explode_offsets"]
 
@@ -73,18 +74,9 @@ def _check_path(path):
 
 def _write_png_atomically(image: np.ndarray, path: str) -> None:
     pv = _pyvista()
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder, prefix=".implicad-")
-    os.close(fd)
-    try:
-        from PIL import Image
+    from PIL import Image
 
-        Image.fromarray(image).save(tmp, format="PNG")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    _atomic_write(path, lambda tmp: Image.fromarray(image).save(tmp, format="PNG"), ".png")
     del pv
 
 

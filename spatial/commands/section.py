@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 
 NAME = "section"
 HELP = "cut a model by a plane: loops, holes, area and second moments; plot or polylines"
@@ -46,19 +45,13 @@ def _plane(args):
 
 def _atomic(path, write, binary=False):
     """Write through `write(handle)` to a temporary file, then rename it."""
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise FileNotFoundError(2, "No such directory", folder)
-    fd, tmp = tempfile.mkstemp(prefix=".section-", suffix=os.path.splitext(path)[1], dir=folder)
-    try:
-        with os.fdopen(fd, "wb" if binary else "w") as fh:
+    from ..io import _atomic_write
+
+    def write_file(tmp):
+        with open(tmp, "wb" if binary else "w") as fh:
             write(fh)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+
+    _atomic_write(path, write_file)
 
 
 def svg_text(sec, *, width_px: float = 800.0) -> str:
