@@ -136,6 +136,7 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, found.pop("cells"), cell_size=2,
                       refine=refine, progress=progress, evaluations=found["evaluations"], block=block,
                       centre_values=found.pop("centres"), uniform_cells=found.pop("uniform"),
+                      uniform_parents=found.pop("uniform_parents"),
                       node_values=found.pop("nodes"), _stacklevel=3)
 
 
@@ -153,8 +154,8 @@ def _boundary_cells_2h(lattice, progress):
     -------
     dict
         ``cells`` (m, 3) int; ``centres`` (m,) values at their centres or
-        None; ``uniform`` ((k, 3) cells of edge ``2h``, (k,) int8 signs) or
-        None; ``nodes`` ((j, 3) lattice nodes, (j,) values) sampled on the
+        None; ``uniform`` ((k, 3) cells of edge ``2h``, (k,) int8 signs) and
+        ``uniform_parents`` (the same for cells of edge ``4h``) or None; ``nodes`` ((j, 3) lattice nodes, (j,) values) sampled on the
         way or None; ``evaluations``.
     """
     from implicit.solid import Solid
@@ -163,14 +164,14 @@ def _boundary_cells_2h(lattice, progress):
     if type(solid)._value_bounds is not Solid._value_bounds or depth < 3:
         result = descend(lattice, keep_leaves=False, stop_level=depth - 1, progress=progress,
                          chunk=CLASSIFY_CHUNK)
-        return dict(cells=result["boundary"], centres=None, uniform=None, nodes=None,
+        return dict(cells=result["boundary"], centres=None, uniform=None, uniform_parents=None, nodes=None,
                     evaluations=result["evaluations"])
     result = descend(lattice, keep_leaves=False, stop_level=depth - 3, progress=progress, chunk=CLASSIFY_CHUNK)
     evaluations = result["evaluations"]
     h = lattice.voxel_size
     lip = solid.lipschitz
     parents = result["boundary"]
-    uniform_cells, uniform_signs, node_idx, node_val = [], [], [], []
+    uniform, node_idx, node_val = [], [], []
     for size in (4, 2):  # cell edge in voxels
         children = (2 * parents[:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
         limit = (-(-lattice.shape // size)).astype(np.int32)
@@ -186,19 +187,15 @@ def _boundary_cells_2h(lattice, progress):
         keep = np.abs(values) <= lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12)
         flat = np.concatenate([children[~keep], beyond])
         signs = np.concatenate([np.where(values[~keep] < 0, -1, 1), np.ones(beyond.shape[0])]).astype(np.int8)
+        uniform.append((flat.astype(np.int32), signs))
         if size == 4:
-            # a uniform cell of 4h is 8 uniform cells of 2h; its centre is a lattice node
-            uniform_cells.append((2 * flat[:, None, :] + CHILD_OFFSETS).reshape(-1, 3))
-            uniform_signs.append(np.repeat(signs, 8))
+            # the centre of a cell of 4h is a lattice node
             node_idx.append(4 * children + 2)
             node_val.append(values)
-        else:
-            uniform_cells.append(flat)
-            uniform_signs.append(signs)
         parents = children[keep]
         centres = values[keep]
     return dict(cells=parents, centres=centres,
-                uniform=(np.concatenate(uniform_cells).astype(np.int32), np.concatenate(uniform_signs)),
+                uniform=uniform[1], uniform_parents=uniform[0],
                 nodes=(np.concatenate(node_idx), np.concatenate(node_val)), evaluations=evaluations)
 
 
@@ -369,7 +366,8 @@ def _evaluate(solid, pts, chunk=EVAL_CHUNK):
 
 
 def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
-               block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, node_values=None, _stacklevel=2):
+               block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, uniform_parents=None, node_values=None,
+               _stacklevel=2):
     """Mesh the boundary through the given cells of a lattice.
 
     Parameters
@@ -396,6 +394,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     uniform_cells : ((k, 3) int, (k,) int8), optional
         Cells (same units) known to hold one strict sign, and that sign
         (``cell_size`` 2 only): their nodes take it without being sampled.
+    uniform_parents : ((k, 3) int, (k,) int8), optional
+        The same for cells twice as large (``2 * cell_size`` voxels).
     node_values : ((j, 3) int, (j,) float), optional
         Lattice nodes already sampled and their values (``cell_size`` 2
         only): reused, and their neighbours far enough from the level take
@@ -442,10 +442,11 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             raise ValueError(f"centre_values: expected {cells.shape[0]} values, got {centre_values.shape[0]}")
     usable = np.isfinite(lip) and lip > 0  # inference needs a finite Lipschitz constant
     uniform = _by_x(uniform_cells, "uniform_cells", "signs", np.int32, np.int8, c) if usable else None
+    parents = _by_x(uniform_parents, "uniform_parents", "signs", np.int32, np.int8, c) if usable else None
     known = _by_x(node_values, "node_values", "values", np.int64, np.float64, c) if usable else None
     if known is not None:
         known = (known[0], _nudge(known[1], h).astype(np.float32))
-    del uniform_cells, node_values
+    del uniform_cells, uniform_parents, node_values
     if not (np.isfinite(lip) and lip > 0):
         centre_infer = False
     else:
@@ -469,24 +470,30 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             slab = int(slab_of[s0])
             job = _SlabJob(solid, origin, h, c, block, slab, stride, lip if centre_infer or uniform is not None else None)
             given = None if centre_values is None else centre_values[s0:s1]
-            ring = None
+            ring = ring_parents = None
             if uniform is not None:
                 lo_x, hi_x = slab * per - 1, (slab + 1) * per
                 a, b = np.searchsorted(uniform[0][:, 0], [lo_x, hi_x + 1])
                 ring = (uniform[0][a:b], uniform[1][a:b])
+            if parents is not None:
+                lo_x, hi_x = (slab * per - 1) // 2, ((slab + 1) * per) // 2
+                a, b = np.searchsorted(parents[0][:, 0], [lo_x, hi_x + 1])
+                ring_parents = (parents[0][a:b], parents[1][a:b])
             extra = None
             if known is not None:
                 # nodes strictly inside the slab (those on its planes are shared: not worth merging)
                 a, b = np.searchsorted(known[0][:, 0], [slab * block + 1, (slab + 1) * block])
                 extra = (known[0][a:b], known[1][a:b])
-            nb, spent, handoff = job.run(cells[s0:s1], given, ring, centre_infer, handoff, parts, extra)
+            nb, spent, handoff = job.run(cells[s0:s1], given, (ring, ring_parents), centre_infer, handoff, parts,
+                                         extra)
             n_blocks += nb
             evaluations += spent
             bar.update()
     finally:
         bar.close()
     n_cells = int(cells.shape[0])
-    del cells, slab_of, centre_values, uniform, known, handoff
+    del cells, slab_of, centre_values, uniform, parents, known, handoff
+    _release_free_memory()
     data, faces = merge_blocks(parts)
     del parts
     _release_free_memory()
@@ -638,7 +645,7 @@ class _SlabJob:
             need = grown
         return need
 
-    def _node_codes(self, sc, ring):
+    def _node_codes(self, sc, ring, ring_parents=None):
         """What each node of the slab's blocks is known to be, ``(nb, B+1, B+1, B+1)`` uint8 (cells of 2 voxels).
 
         Bit `NEEDED` marks the nodes of boundary cells, `POSITIVE` / `NEGATIVE`
@@ -653,6 +660,16 @@ class _SlabJob:
         z0, z1 = int(self.bzs.min()) * P - 1, (int(self.bzs.max()) + 1) * P + 1
         xc = self.slab * P - 1
         state = np.zeros((P + 2, y1 - y0, z1 - z0), dtype=np.uint8)
+        lo = np.array([xc, y0, z0])
+        hi = np.array([xc + P + 2, y1, z1])
+        if ring_parents is not None and ring_parents[0].shape[0]:
+            # a uniform cell twice as large paints its 8 children
+            idx, sgn = ring_parents
+            code = np.where(sgn < 0, NEGATIVE, POSITIVE).astype(np.uint8)
+            for off in CHILD_OFFSETS:
+                child = 2 * idx + off - lo
+                sel = ((child >= 0) & (child < hi - lo)).all(axis=1)
+                state[child[sel, 0], child[sel, 1], child[sel, 2]] = code[sel]
         if ring is not None and ring[0].shape[0]:
             idx, sgn = ring
             sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
@@ -709,7 +726,7 @@ class _SlabJob:
         """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
         B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
         cells = self._blocks(sc)
-        code = self._node_codes(sc, ring) if c == 2 else self._needed(cells).view(np.uint8)
+        code = self._node_codes(sc, *ring) if c == 2 else self._needed(cells).view(np.uint8)
         shape = code.shape
         sampled = []  # (block, x, y, z, value) of nodes already sampled
         if given is not None:
@@ -783,48 +800,64 @@ class _SlabJob:
         s_n[m_idx] = s_u[back]
         v_n[m_idx] = v_u[back]
         del t1, t1u, a, b
-        # -- pass 2: ends of crossing edges without a value --------------------------------
-        sgn = code.view(np.int8)  # the codes are spent: their memory holds the signs
-        sgn[...] = 0
-        sgn.reshape(-1)[flat] = s_n
-        want = np.zeros(shape, dtype=bool)
-        for ax in (1, 2, 3):
-            lo_sl = [slice(None)] * 4
-            hi_sl = [slice(None)] * 4
-            lo_sl[ax] = slice(0, -1)
-            hi_sl[ax] = slice(1, None)
-            cross = (sgn[tuple(lo_sl)] * sgn[tuple(hi_sl)]) < 0
-            want[tuple(lo_sl)] |= cross
-            want[tuple(hi_sl)] |= cross
-        del cross
-        w_n = want.reshape(-1)[flat] & np.isnan(v_n)
-        del want
-        w_u = np.zeros(uniq.shape[0], dtype=bool)
-        w_u[back[w_n[m_idx]]] = True
-        w_u &= np.isnan(v_u)
-        w_s = w_n & single
-        a, b, n = sample(w_s, w_u)
-        spent += n
-        v_n[w_s] = a
-        v_u[w_u] = b
-        v_n[m_idx] = v_u[back]
-        del w_n, w_u, w_s, a, b
-        # the upper plane goes to the next slab
+        # -- marching cubes on signs: a sign-only node gets +-L h, an unused node 1 -----------
+        missing = np.isnan(v_n)
+        placeholder = v_n.copy()
+        if missing.any():
+            scale = np.float32(self.lip * h if self.lip else h)
+            placeholder[missing] = s_n[missing].astype(np.float32) * scale
+        del missing
+        values = np.ones(code.shape, dtype=np.float32)
+        del code
+        values.reshape(-1)[flat] = placeholder
+        del placeholder
+        raw = self._mesh_blocks(cells, values)
+        del values
+        if raw is not None:
+            # -- pass 2: the ends of the edges marching cubes crossed that have no value yet ----
+            vblk, node, axis, faces = raw
+            del raw
+            n1 = B + 1
+            rows = np.arange(node.shape[0])
+            at = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
+            step = np.array([n1 * n1, n1, 1], dtype=np.int64)[axis]
+            end0 = np.searchsorted(flat, at)  # every end is a node of a boundary cell
+            end1 = np.searchsorted(flat, at + step)
+            del at, step
+            wanted = np.zeros(flat.shape[0], dtype=bool)
+            wanted[end0] = True
+            wanted[end1] = True
+            wanted &= np.isnan(v_n)
+            w_u = np.zeros(uniq.shape[0], dtype=bool)
+            w_u[back[wanted[m_idx]]] = True
+            w_s = wanted & single
+            del wanted
+            a, b, n = sample(w_s, w_u)
+            spent += n
+            v_n[w_s] = a
+            v_u[w_u] = b
+            v_n[m_idx] = v_u[back]
+            del w_s, w_u, a, b
+            f0 = v_n[end0]
+            f1 = v_n[end1]
+            del end0, end1, rows
+            node[:, 0] += x0
+            node[:, 1] += (self.bys[vblk] * B).astype(np.int32)
+            node[:, 2] += (self.bzs[vblk] * B).astype(np.int32)
+            del vblk
+            edges = ((node[:, 0].astype(np.int64) * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
+            shared = ((node % B == 0) & (axis[:, None] != np.arange(3))).any(axis=1)
+            parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
+            del edges, shared, node, axis, f0, f1, faces
+        # the upper plane goes to the next slab (values NaN where only the sign is known)
         top = li == B
         hid, first = np.unique(gid[top], return_index=True)
         handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
-        # -- dense values for marching cubes: a sign-only node gets +-L h, an unused node 1 --
-        missing = np.isnan(v_n)
-        if missing.any():
-            scale = np.float32(self.lip * h if self.lip else h)
-            v_n[missing] = s_n[missing].astype(np.float32) * scale
-        values = np.ones(shape, dtype=np.float32)
-        values.reshape(-1)[flat] = v_n
-        del flat, blk, li, lj, lk, gy, gz, gid, v_n, s_n, maybe, single, missing, sgn
-        self._mesh_blocks(cells, values, parts)
         return self.nb, spent, handoff
 
-    def _mesh_blocks(self, cells, values, parts):
+    def _mesh_blocks(self, cells, values):
+        """Marching cubes on every active block of the slab: ``(block, lower node of the edge
+        (block-local), axis, faces)`` of the slab's vertices, or None."""
         B, c, x0, stride = self.B, self.c, self.x0, self.stride
         inv = self.cl[0]
         local = np.stack(self.cl[1:], axis=1)
@@ -854,30 +887,14 @@ class _SlabJob:
             origins.append((b, xs, ys, zs))
             n_verts += v.shape[0]
         if not verts:
-            return
-        # the slab's vertices at once: their lattice edges, end samples and global edge ids
+            return None
         verts = np.concatenate(verts)
         faces = np.concatenate(faces).astype(np.int32 if n_verts < 2 ** 31 else np.int64)
         where = np.repeat(np.asarray(origins, dtype=np.int32), counts, axis=0)
         node, axis = _edges_of(verts)
         del verts
         node += where[:, 1:]
-        blk = where[:, 0]
-        del where
-        f0 = values[blk, node[:, 0], node[:, 1], node[:, 2]]
-        upper = node.copy()
-        upper[np.arange(n_verts), axis] += 1
-        f1 = values[blk, upper[:, 0], upper[:, 1], upper[:, 2]]
-        del upper
-        node[:, 0] += x0
-        node[:, 1] += (self.bys[blk] * B).astype(np.int32)
-        node[:, 2] += (self.bzs[blk] * B).astype(np.int32)
-        del blk
-        wide = node.astype(np.int64)
-        edges = ((wide[:, 0] * stride + wide[:, 1]) * stride + wide[:, 2]) * 3 + axis
-        del wide
-        shared = ((node % B == 0) & (axis[:, None] != np.arange(3))).any(axis=1)
-        parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
+        return where[:, 0], node, axis, faces
 
 
 def _repeat2(arr, axis):
