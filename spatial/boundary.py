@@ -503,19 +503,22 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         return empty_mesh(h, evaluations)
 
     # -- vertex positions: on their edge, interpolated then refined ------------------------
+    # (ordered to keep few vertex-sized arrays alive at once: this is the peak of memory)
     nodes, axis, f0, f1 = data
     del data
-    p0 = nodes.astype(np.float64)
-    del nodes
-    p0 *= h
-    p0 += origin
     t = f0 / (f0.astype(np.float64) - f1)
     if refine:
-        rows = np.flatnonzero(~_certified(f0, f1, h, lip))
-        spent = _refine_on_edges(solid, p0, axis, h, t, f0, f1, rows)
+        rows = np.flatnonzero(~_certified(f0, f1, h, lip)).astype(np.int32)
+        spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows)
         evaluations += spent
         del rows
     del f0, f1
+    _release_free_memory()
+    p0 = np.empty(nodes.shape, dtype=np.float64)
+    p0[...] = nodes
+    del nodes
+    p0 *= h
+    p0 += origin
     t *= h
     for a in range(3):
         on = axis == a
@@ -577,12 +580,16 @@ def _certified(f0, f1, h, lip):
     """
     if not (np.isfinite(lip) and lip > 0):
         return np.zeros(f0.shape[0], dtype=bool)
-    a0 = np.abs(f0)
-    a1 = np.abs(f1)
     floor = np.float32(ZERO_NUDGE * h * (1 + 1e-3))
-    # L h w = L h - (|f0| + |f1|); single precision is ample against REFINE_ACCEPT
-    spare = np.float32(lip * h) - (a0 + a1)
-    return (spare <= np.float32(REFINE_ACCEPT * h)) & (a0 > floor) & (a1 > floor)
+    a = np.abs(f0)
+    trusted = a > floor
+    both = np.abs(f1)
+    trusted &= both > floor
+    both += a
+    del a
+    # L h w = L h - (|f0| + |f1|) <= REFINE_ACCEPT h; single precision is ample for that
+    trusted &= both >= np.float32(lip * h - REFINE_ACCEPT * h)
+    return trusted
 
 
 # Bits of a node's code while a slab is sampled.
@@ -742,15 +749,17 @@ class _SlabJob:
         # -- the needed nodes as a list, with global ids -----------------------------------
         flat = np.flatnonzero((code.reshape(-1) & NEEDED).view(bool))  # NEEDED is bit 0: 0/1 bytes
         n3 = (B + 1) ** 3
-        blk, rest = np.divmod(flat, n3)
+        # positions within the slab's arrays fit 32 bits: halves the memory of the node lists
+        itype = np.int32 if code.size < 2 ** 31 else np.int64
+        blk, rest = np.divmod(flat.astype(itype), itype(n3))
         # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
         maybe = _shared_nodes(B)[rest]
-        li, rest = np.divmod(rest, (B + 1) ** 2)
-        lj, lk = np.divmod(rest, B + 1)
+        li, rest = np.divmod(rest, itype((B + 1) ** 2))
+        lj, lk = np.divmod(rest, itype(B + 1))
         del rest
-        gy = self.bys[blk] * B + lj
-        gz = self.bzs[blk] * B + lk
-        gid = ((li + x0) * stride + gy) * stride + gz
+        gy = (self.bys * B).astype(itype)[blk] + lj
+        gz = (self.bzs * B).astype(itype)[blk] + lk
+        gid = ((li.astype(np.int64) + x0) * stride + gy) * stride + gz
         s_n = code.reshape(-1)[flat]
         s_n = ((s_n >> 1) & 1).astype(np.int8) - ((s_n >> 2) & 1).astype(np.int8)
         v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
@@ -914,11 +923,11 @@ def _shared_nodes(B):
     return ((j % B == 0) | (k % B == 0) | (i == 0)).reshape(-1)
 
 
-def _refine_on_edges(solid, p0, axis, h, t, f0, f1, rows=None, steps=REFINE_STEPS, tol=REFINE_TOL,
+def _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows=None, steps=REFINE_STEPS, tol=REFINE_TOL,
                      accept=REFINE_ACCEPT, chunk=EVAL_CHUNK):
     """Illinois regula falsi for the root of f along each vertex's edge, in place.
 
-    Vertex ``i`` lies at ``p0[i] + t[i] * h * e[axis[i]]``.  The bracket
+    Vertex ``i`` lies at ``origin + (nodes[i] + t[i] * e[axis[i]]) * h``.  The bracket
     ``[a, b]`` (initially ``[0, 1]``, end values of opposite signs) is kept,
     so every vertex stays on its edge.  Only vertices whose value is still
     above ``tol * h`` are updated; those already within ``accept * h`` take
@@ -930,7 +939,8 @@ def _refine_on_edges(solid, p0, axis, h, t, f0, f1, rows=None, steps=REFINE_STEP
     spent = 0
     for s0 in range(0, rows.shape[0], chunk):
         sl = rows[s0:s0 + chunk]
-        t[sl], used = _refine_chunk(solid, p0[sl], axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol, accept)
+        p0 = nodes[sl] * h + origin
+        t[sl], used = _refine_chunk(solid, p0, axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol, accept)
         spent += used
     return spent
 
