@@ -175,10 +175,13 @@ def _boundary_cells_2h(lattice, progress):
     for size in (4, 2):  # cell edge in voxels
         children = (2 * parents[:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
         limit = (-(-lattice.shape // size)).astype(np.int32)
-        inside = (children < limit).all(axis=1)
         # children beyond the padded region are EMPTY: the solid lies inside its bounds
-        beyond = children[~inside]
-        children = children[inside]
+        if children.shape[0] == 0 or (children.max(axis=0) < limit).all():
+            beyond = children[:0]
+        else:
+            inside = (children < limit).all(axis=1)
+            beyond = children[~inside]
+            children = children[inside]
         values = np.empty(children.shape[0])
         for a in range(0, children.shape[0], EVAL_CHUNK):
             values[a:a + EVAL_CHUNK] = solid(lattice.origin + (size * children[a:a + EVAL_CHUNK] + size // 2) * h)
@@ -684,7 +687,8 @@ class _SlabJob:
         state[sc[:, 0] - xc, sc[:, 1] - y0, sc[:, 2] - z0] = NEEDED
         ry = (self.bys * P - 1 - y0)[:, None] + np.arange(P + 2)
         rz = (self.bzs * P - 1 - z0)[:, None] + np.arange(P + 2)
-        out = np.moveaxis(state[:, ry[:, :, None], rz[:, None, :]], 0, 1)  # (nb, P+2, P+2, P+2)
+        rx = np.arange(P + 2)
+        out = state[rx[None, :, None, None], ry[:, None, :, None], rz[:, None, None, :]]  # (nb, P+2, P+2, P+2)
         # cells -> nodes, axis by axis: node j lies in ring cells (j+1)//2 and (j+2)//2, i.e. between
         # entries j+1 and j+2 of the ring repeated twice
         for ax in (1, 2, 3):
