@@ -755,15 +755,26 @@ class _SlabJob:
         n3 = (B + 1) ** 3
         # positions within the slab's arrays fit 32 bits: halves the memory of the node lists
         itype = np.int32 if code.size < 2 ** 31 else np.int64
-        blk, rest = np.divmod(flat.astype(itype), itype(n3))
+        flat = flat.astype(itype)
+        rest = flat % itype(n3)
         # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
         maybe = _shared_nodes(B)[rest]
-        li, rest = np.divmod(rest, itype((B + 1) ** 2))
-        lj, lk = np.divmod(rest, itype(B + 1))
+        top = np.flatnonzero(rest >= B * (B + 1) ** 2)  # the upper x plane, handed to the next slab
         del rest
-        gy = (self.bys * B).astype(itype)[blk] + lj
-        gz = (self.bzs * B).astype(itype)[blk] + lk
-        gid = ((li.astype(np.int64) + x0) * stride + gy) * stride + gz
+        y_base = (self.bys * B).astype(itype)
+        z_base = (self.bzs * B).astype(itype)
+
+        def where_(rows):
+            """Slab x, global y and z of the needed nodes `rows` (only the few that need them)."""
+            b_, r_ = np.divmod(flat[rows], itype(n3))
+            x_, r_ = np.divmod(r_, itype((B + 1) ** 2))
+            y_, z_ = np.divmod(r_, itype(B + 1))
+            return x_, y_base[b_] + y_, z_base[b_] + z_
+
+        def ids(rows):
+            x_, y_, z_ = where_(rows)
+            return ((x_.astype(np.int64) + x0) * stride + y_) * stride + z_
+
         s_n = code.reshape(-1)[flat]
         s_n = ((s_n >> 1) & 1).astype(np.int8) - ((s_n >> 2) & 1).astype(np.int8)
         v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
@@ -775,7 +786,7 @@ class _SlabJob:
             v_n[pos[hit]] = v[hit]
         del sampled
         m_idx = np.flatnonzero(maybe)
-        uniq, ufirst, back = np.unique(gid[m_idx], return_index=True, return_inverse=True)
+        uniq, ufirst, back = np.unique(ids(m_idx), return_index=True, return_inverse=True)
         s_u = np.zeros(uniq.shape[0], dtype=np.int8)
         s_m = s_n[m_idx]
         s_u[back[s_m != 0]] = s_m[s_m != 0]
@@ -793,10 +804,12 @@ class _SlabJob:
         def sample(sel_single, sel_unique):
             """Evaluate the chosen single nodes and unique merged nodes in one call."""
             pick = np.concatenate([np.flatnonzero(sel_single), m_idx[ufirst[sel_unique]]])
+            x_, y_, z_ = where_(pick)
             pts = np.empty((pick.shape[0], 3))
-            pts[:, 0] = self.origin[0] + (li[pick] + x0) * h
-            pts[:, 1] = self.origin[1] + gy[pick] * h
-            pts[:, 2] = self.origin[2] + gz[pick] * h
+            pts[:, 0] = self.origin[0] + (x_ + x0) * h
+            pts[:, 1] = self.origin[1] + y_ * h
+            pts[:, 2] = self.origin[2] + z_ * h
+            del x_, y_, z_
             vals = _nudge(_evaluate(self.solid, pts), h).astype(np.float32) if pick.shape[0] else np.empty(0, np.float32)
             k = int(np.count_nonzero(sel_single))
             return vals[:k], vals[k:], int(pick.shape[0])
@@ -863,8 +876,7 @@ class _SlabJob:
             parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
             del edges, shared, node, axis, f0, f1, faces
         # the upper plane goes to the next slab (values NaN where only the sign is known)
-        top = li == B
-        hid, first = np.unique(gid[top], return_index=True)
+        hid, first = np.unique(ids(top), return_index=True)
         handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
         return self.nb, spent, handoff
 
