@@ -834,26 +834,25 @@ class _SlabJob:
             placeholder[missing] = s_n[missing].astype(np.float32) * scale
         del missing
         values = np.ones(code.shape, dtype=np.float32)
-        del code
         values.reshape(-1)[flat] = placeholder
         del placeholder
+        # the code's memory now marks the nodes that have a value
+        valued = code.view(bool).reshape(-1)
+        valued[...] = False
+        valued[flat[~np.isnan(v_n)]] = True
+        del code
         raw = self._mesh_blocks(cells, values)
-        del values
         if raw is not None:
             # -- pass 2: the ends of the edges marching cubes crossed that have no value yet ----
             vblk, node, axis, faces = raw
             del raw
             n1 = B + 1
-            rows = np.arange(node.shape[0])
-            at = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
-            step = np.array([n1 * n1, n1, 1], dtype=np.int64)[axis]
-            end0 = np.searchsorted(flat, at)  # every end is a node of a boundary cell
-            end1 = np.searchsorted(flat, at + step)
-            del at, step
+            end0 = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
+            end1 = end0 + np.array([n1 * n1, n1, 1], dtype=np.int64)[axis]
+            lacking = np.concatenate([end0[~valued[end0]], end1[~valued[end1]]])
             wanted = np.zeros(flat.shape[0], dtype=bool)
-            wanted[end0] = True
-            wanted[end1] = True
-            wanted &= np.isnan(v_n)
+            wanted[np.searchsorted(flat, lacking)] = True  # every end is a node of a boundary cell
+            del lacking
             w_u = np.zeros(uniq.shape[0], dtype=bool)
             w_u[back[wanted[m_idx]]] = True
             w_s = wanted & single
@@ -863,10 +862,12 @@ class _SlabJob:
             v_n[w_s] = a
             v_u[w_u] = b
             v_n[m_idx] = v_u[back]
-            del w_s, w_u, a, b
-            f0 = v_n[end0]
-            f1 = v_n[end1]
-            del end0, end1, rows
+            fresh = np.concatenate([np.flatnonzero(w_s), m_idx[w_u[back]]])  # every copy of a node sampled now
+            values.reshape(-1)[flat[fresh]] = v_n[fresh]
+            del w_s, w_u, a, b, fresh
+            f0 = values.reshape(-1)[end0]
+            f1 = values.reshape(-1)[end1]
+            del end0, end1
             node[:, 0] += x0
             node[:, 1] += (self.bys[vblk] * B).astype(np.int32)
             node[:, 2] += (self.bzs[vblk] * B).astype(np.int32)
@@ -875,6 +876,7 @@ class _SlabJob:
             shared = ((node % B == 0) & (axis[:, None] != np.arange(3))).any(axis=1)
             parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
             del edges, shared, node, axis, f0, f1, faces
+        del values, valued
         # the upper plane goes to the next slab (values NaN where only the sign is known)
         hid, first = np.unique(ids(top), return_index=True)
         handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
