@@ -826,48 +826,54 @@ class _SlabJob:
         s_n[m_idx] = s_u[back]
         v_n[m_idx] = v_u[back]
         del t1, t1u, a, b
-        # -- marching cubes on signs: a sign-only node gets +-L h, an unused node 1 -----------
-        missing = np.isnan(v_n)
+        # -- pass 2: the ends of crossing edges without a value -------------------------------
+        # (before marching cubes, which resolves its ambiguous faces and cubes from the values)
+        sgn = code.view(np.int8)  # the codes are spent: their memory holds the signs
+        sgn[...] = 0
+        sgn.reshape(-1)[flat] = s_n
+        want = np.zeros(code.shape, dtype=bool)
+        for ax in (1, 2, 3):
+            lo_sl = [slice(None)] * 4
+            hi_sl = [slice(None)] * 4
+            lo_sl[ax] = slice(0, -1)
+            hi_sl[ax] = slice(1, None)
+            cross = (sgn[tuple(lo_sl)] * sgn[tuple(hi_sl)]) < 0
+            want[tuple(lo_sl)] |= cross
+            want[tuple(hi_sl)] |= cross
+        del cross, sgn, code
+        w_n = want.reshape(-1)[flat] & np.isnan(v_n)
+        del want
+        w_u = np.zeros(uniq.shape[0], dtype=bool)
+        w_u[back[w_n[m_idx]]] = True
+        w_s = w_n & single
+        del w_n
+        a, b, n = sample(w_s, w_u)
+        spent += n
+        v_n[w_s] = a
+        v_u[w_u] = b
+        v_n[m_idx] = v_u[back]
+        del w_s, w_u, a, b
+        # -- marching cubes: a sign-only node gets +-L h, an unused node 1 ------------------
         placeholder = v_n.copy()
+        missing = np.isnan(v_n)
         if missing.any():
             scale = np.float32(self.lip * h if self.lip else h)
             placeholder[missing] = s_n[missing].astype(np.float32) * scale
         del missing
-        values = np.ones(code.shape, dtype=np.float32)
-        values.reshape(-1)[flat] = placeholder
+        values = np.ones(self.nb * (B + 1) ** 3, dtype=np.float32)
+        values[flat] = placeholder
         del placeholder
-        # the code's memory now marks the nodes that have a value
-        valued = code.view(bool).reshape(-1)
-        valued[...] = False
-        valued[flat[~np.isnan(v_n)]] = True
-        del code
-        raw = self._mesh_blocks(cells, values)
+        raw = self._mesh_blocks(cells, values.reshape(self.nb, B + 1, B + 1, B + 1))
         if raw is not None:
-            # -- pass 2: the ends of the edges marching cubes crossed that have no value yet ----
+            # every end of a crossing edge holds its value: read the ends from the dense samples
             vblk, node, axis, faces = raw
             del raw
             n1 = B + 1
-            end0 = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
-            end1 = end0 + np.array([n1 * n1, n1, 1], dtype=np.int64)[axis]
-            lacking = np.concatenate([end0[~valued[end0]], end1[~valued[end1]]])
-            wanted = np.zeros(flat.shape[0], dtype=bool)
-            wanted[np.searchsorted(flat, lacking)] = True  # every end is a node of a boundary cell
-            del lacking
-            w_u = np.zeros(uniq.shape[0], dtype=bool)
-            w_u[back[wanted[m_idx]]] = True
-            w_s = wanted & single
-            del wanted
-            a, b, n = sample(w_s, w_u)
-            spent += n
-            v_n[w_s] = a
-            v_u[w_u] = b
-            v_n[m_idx] = v_u[back]
-            fresh = np.concatenate([np.flatnonzero(w_s), m_idx[w_u[back]]])  # every copy of a node sampled now
-            values.reshape(-1)[flat[fresh]] = v_n[fresh]
-            del w_s, w_u, a, b, fresh
-            f0 = values.reshape(-1)[end0]
-            f1 = values.reshape(-1)[end1]
-            del end0, end1
+            end = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
+            f0 = values[end]
+            end += np.array([n1 * n1, n1, 1], dtype=np.int64)[axis]
+            f1 = values[end]
+            del end
             node[:, 0] += x0
             node[:, 1] += (self.bys[vblk] * B).astype(np.int32)
             node[:, 2] += (self.bzs[vblk] * B).astype(np.int32)
@@ -876,7 +882,7 @@ class _SlabJob:
             shared = ((node % B == 0) & (axis[:, None] != np.arange(3))).any(axis=1)
             parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
             del edges, shared, node, axis, f0, f1, faces
-        del values, valued
+        del values
         # the upper plane goes to the next slab (values NaN where only the sign is known)
         hid, first = np.unique(ids(top), return_index=True)
         handoff = (self.slab, hid, v_n[top][first], s_n[top][first])

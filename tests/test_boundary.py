@@ -13,6 +13,7 @@ from spatial import mesh
 from spatial.boundary import mesh_block
 
 from meshcheck import min_area, signed_volume, topology, vertex_manifold
+from test_octree import solids as random_solids
 
 #: Refined vertices lie this close to the surface, in voxels.
 REFINED_TOL = 2e-3
@@ -236,3 +237,37 @@ def test_repeat2_is_numpy_repeat(shape, axis, dtype):
     arr = (np.arange(int(np.prod(shape))).reshape(shape) % 3 - 1).astype(dtype)
     assert np.array_equal(_repeat2(arr, axis), np.repeat(arr, 2, axis=axis))
     assert np.array_equal(_repeat2(arr, -1), np.repeat(arr, 2, axis=-1))
+
+
+def _lean_and_full(solid, n):
+    """The mesh as `mesh` builds it, and the one from every node of the same boundary cells sampled."""
+    from spatial.boundary import _boundary_cells_2h, mesh_cells
+    from spatial.octree import make_lattice
+
+    lattice = make_lattice(solid, resolution=n)
+    found = _boundary_cells_2h(lattice, False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        lean = mesh(solid, resolution=n, refine=False)
+        full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False)
+    return lean, full
+
+
+@settings(derandomize=True, max_examples=20, deadline=None)
+@given(solid=random_solids(), n=st.sampled_from([20, 27, 34]),
+       warp=st.sampled_from(["none", "scale", "smooth", "offset"]))
+def test_inferred_signs_law_on_random_solids(solid, n, warp):
+    from implicit import offset, scale, smooth_union
+
+    # fields whose Lipschitz constant is not 1 or that are bounds rather than distances
+    if warp == "scale":
+        solid = scale(solid, (1.0, 0.55, 1.3))
+    elif warp == "smooth":
+        solid = smooth_union(solid, sphere(0.4, center=(0.6, 0.0, 0.0)), blend=0.3)
+    elif warp == "offset":
+        solid = offset(solid, 0.05)
+    lean, full = _lean_and_full(solid, n)
+    assert lean.n_cells == full.n_cells and lean.n_points == full.n_points
+    if lean.n_points:
+        assert np.allclose(np.sort(lean.points, axis=0), np.sort(full.points, axis=0), atol=1e-12)
+        assert topology(lean)["edge_counts"] == {2}
