@@ -898,14 +898,20 @@ class _SlabJob:
         highs = np.zeros((self.nb, 3), dtype=np.int64)
         np.minimum.at(lows, inv, local)
         np.maximum.at(highs, inv, local + 1)
+        # the voxels of the cells, for the whole slab at once
+        voxels = cells
+        if c == 2:
+            for ax in (1, 2, 3):
+                voxels = _repeat2(voxels, ax)
+        elif c > 1:
+            for ax in (1, 2, 3):
+                voxels = np.repeat(voxels, c, axis=ax)
         verts, faces, counts, origins = [], [], [], []
         n_verts = 0
         for b in range(self.nb):
-            box_lo, box_hi = lows[b].tolist(), highs[b].tolist()
-            cb = cells[b, box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
-            if c > 1:
-                cb = np.repeat(np.repeat(np.repeat(cb, c, 0), c, 1), c, 2)
-            xs, ys, zs = box_lo[0] * c, box_lo[1] * c, box_lo[2] * c
+            box_lo, box_hi = (lows[b] * c).tolist(), (highs[b] * c).tolist()
+            cb = voxels[b, box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
+            xs, ys, zs = box_lo
             box = (b, slice(xs, xs + cb.shape[0] + 1), slice(ys, ys + cb.shape[1] + 1),
                    slice(zs, zs + cb.shape[2] + 1))
             vol = np.ascontiguousarray(values[box])
