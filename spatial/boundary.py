@@ -985,11 +985,15 @@ def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol, accept):
     side = np.zeros(n, dtype=np.int8)
     active = np.arange(n)
     spent = 0
-    for _ in range(steps):
+    for step in range(steps):
         if active.size == 0:
             break
-        q = p0[active]
-        q[np.arange(active.size), axis[active]] += t[active] * h
+        if step == 0:  # every vertex: no gathers
+            q = p0.copy()
+            q.reshape(-1)[3 * active + axis] += t * h
+        else:
+            q = p0[active]
+            q[np.arange(active.size), axis[active]] += t[active] * h
         ft = solid(q)
         spent += active.size
         busy = np.abs(ft) > tol * h
