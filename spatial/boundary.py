@@ -874,12 +874,13 @@ class _SlabJob:
             end += np.array([n1 * n1, n1, 1], dtype=np.int64)[axis]
             f1 = values[end]
             del end
+            # a vertex on an edge lying in a block face may be another block's too
+            shared = (((node == 0) | (node == B)) & (axis[:, None] != np.arange(3))).any(axis=1)
             node[:, 0] += x0
             node[:, 1] += (self.bys[vblk] * B).astype(np.int32)
             node[:, 2] += (self.bzs[vblk] * B).astype(np.int32)
             del vblk
             edges = ((node[:, 0].astype(np.int64) * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
-            shared = ((node % B == 0) & (axis[:, None] != np.arange(3))).any(axis=1)
             parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
             del edges, shared, node, axis, f0, f1, faces
         del values
