@@ -670,16 +670,19 @@ class _SlabJob:
         z0, z1 = int(self.bzs.min()) * P - 1, (int(self.bzs.max()) + 1) * P + 1
         xc = self.slab * P - 1
         state = np.zeros((P + 2, y1 - y0, z1 - z0), dtype=np.uint8)
-        lo = np.array([xc, y0, z0])
-        hi = np.array([xc + P + 2, y1, z1])
         if ring_parents is not None and ring_parents[0].shape[0]:
-            # a uniform cell twice as large paints its 8 children
+            # uniform cells twice as large: painted at their own scale, then each over its 8 children
+            lo = np.array([xc, y0, z0]) // 2
+            hi = -(-np.array([xc + P + 2, y1, z1]) // 2)
             idx, sgn = ring_parents
-            code = np.where(sgn < 0, NEGATIVE, POSITIVE).astype(np.uint8)
-            for off in CHILD_OFFSETS:
-                child = 2 * idx + off - lo
-                sel = ((child >= 0) & (child < hi - lo)).all(axis=1)
-                state[child[sel, 0], child[sel, 1], child[sel, 2]] = code[sel]
+            sel = ((idx >= lo) & (idx < hi)).all(axis=1)
+            coarse = np.zeros(tuple((hi - lo).tolist()), dtype=np.uint8)
+            coarse[tuple((idx[sel] - lo).T)] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
+            for ax in range(3):
+                coarse = _repeat2(coarse, ax)
+            shift = np.array([xc, y0, z0]) - 2 * lo
+            state |= coarse[shift[0]:shift[0] + state.shape[0], shift[1]:shift[1] + state.shape[1],
+                            shift[2]:shift[2] + state.shape[2]]
         if ring is not None and ring[0].shape[0]:
             idx, sgn = ring
             sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
