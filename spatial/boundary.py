@@ -1017,9 +1017,9 @@ def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol, accept):
         ba = np.where(left, ba, ta)
         new_fa = np.where(left, ft, fa_)
         new_fb = np.where(left, fb_, ft)
-        # Illinois: halve the value of an end kept twice in a row
-        new_fb = np.where(left & (sd == 1), 0.5 * new_fb, new_fb)
-        new_fa = np.where(~left & (sd == -1), 0.5 * new_fa, new_fa)
+        if step:  # Illinois: halve the value of an end kept twice in a row (no end is, at the first step)
+            new_fb = np.where(left & (sd == 1), 0.5 * new_fb, new_fb)
+            new_fa = np.where(~left & (sd == -1), 0.5 * new_fa, new_fa)
         denom = new_fb - new_fa
         ok = denom != 0
         t_new = np.where(ok, (aa * new_fb - ba * new_fa) / np.where(ok, denom, 1.0), 0.5 * (aa + ba))
