@@ -647,11 +647,12 @@ class _SlabJob:
         return cells
 
     def _needed(self, cells):
-        """Nodes of the cells: a separable dilation (each axis: repeat c times, OR a shift by one)."""
+        """Nodes of the cells, for cells without a ring of known neighbours (`_node_codes` serves
+        cells of 2 voxels): a separable dilation (each axis: repeat c times, OR a shift by one)."""
         c = self.c
         need = cells
         for ax in (1, 2, 3):
-            rep = _repeat2(need, ax) if c == 2 else (np.repeat(need, c, axis=ax) if c > 1 else need)
+            rep = np.repeat(need, c, axis=ax) if c > 1 else need
             shape = list(rep.shape)
             shape[ax] += 1
             grown = np.zeros(shape, dtype=bool)
@@ -750,7 +751,6 @@ class _SlabJob:
         B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
         cells = self._blocks(sc)
         code = self._node_codes(sc, *ring) if c == 2 else self._needed(cells).view(np.uint8)
-        shape = code.shape
         sampled = []  # (block, x, y, z, value) of nodes already sampled
         if given is not None:
             b_, x_, y_, z_ = self.cl
