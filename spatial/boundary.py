@@ -174,15 +174,16 @@ def _boundary_cells_2h(lattice, progress):
     parents = result["boundary"]
     uniform, node_idx, node_val = [], [], []
     for size in (4, 2):  # cell edge in voxels
-        children = (2 * parents[:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
         limit = (-(-lattice.shape // size)).astype(np.int32)
-        # children beyond the padded region are EMPTY: the solid lies inside its bounds
-        if children.shape[0] == 0 or (children.max(axis=0) < limit).all():
-            beyond = children[:0]
-        else:
-            inside = (children < limit).all(axis=1)
-            beyond = children[~inside]
-            children = children[inside]
+        # children beyond the padded region are EMPTY (the solid lies inside its bounds); only the
+        # parents on the region's upper edge have such children
+        edge = (2 * parents + 1 >= limit).any(axis=1)
+        children = (2 * parents[~edge][:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
+        at_edge = (2 * parents[edge][:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
+        inside = (at_edge < limit).all(axis=1)
+        beyond = at_edge[~inside]
+        children = np.concatenate([children, at_edge[inside]])
+        del edge, at_edge, inside
         values = np.empty(children.shape[0])
         for a in range(0, children.shape[0], EVAL_CHUNK):
             values[a:a + EVAL_CHUNK] = solid(lattice.origin + (size * children[a:a + EVAL_CHUNK] + size // 2) * h)
@@ -448,6 +449,9 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     uniform = _by_x(uniform_cells, "uniform_cells", "signs", np.int32, np.int8, c) if usable else None
     parents = _by_x(uniform_parents, "uniform_parents", "signs", np.int32, np.int8, c) if usable else None
     known = _by_x(node_values, "node_values", "values", np.int64, np.float64, c) if usable else None
+    # their x columns, contiguous for the searches of every slab
+    uniform_x, parents_x, known_x = (None if p is None else np.ascontiguousarray(p[0][:, 0])
+                                     for p in (uniform, parents, known))
     if known is not None:
         known = (known[0], _nudge(known[1], h).astype(np.float32))
     del uniform_cells, uniform_parents, node_values
@@ -477,16 +481,16 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             ring = ring_parents = None
             if uniform is not None:
                 lo_x, hi_x = slab * per - 1, (slab + 1) * per
-                a, b = np.searchsorted(uniform[0][:, 0], [lo_x, hi_x + 1])
+                a, b = np.searchsorted(uniform_x, [lo_x, hi_x + 1])
                 ring = (uniform[0][a:b], uniform[1][a:b])
             if parents is not None:
                 lo_x, hi_x = (slab * per - 1) // 2, ((slab + 1) * per) // 2
-                a, b = np.searchsorted(parents[0][:, 0], [lo_x, hi_x + 1])
+                a, b = np.searchsorted(parents_x, [lo_x, hi_x + 1])
                 ring_parents = (parents[0][a:b], parents[1][a:b])
             extra = None
             if known is not None:
                 # nodes strictly inside the slab (those on its planes are shared: not worth merging)
-                a, b = np.searchsorted(known[0][:, 0], [slab * block + 1, (slab + 1) * block])
+                a, b = np.searchsorted(known_x, [slab * block + 1, (slab + 1) * block])
                 extra = (known[0][a:b], known[1][a:b])
             nb, spent, handoff = job.run(cells[s0:s1], given, (ring, ring_parents), centre_infer, handoff, parts,
                                          extra)
@@ -496,7 +500,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     finally:
         bar.close()
     n_cells = int(cells.shape[0])
-    del cells, slab_of, centre_values, uniform, parents, known, handoff
+    del cells, slab_of, centre_values, uniform, parents, known, handoff, uniform_x, parents_x, known_x
     _release_free_memory()
     data, faces = merge_blocks(parts)
     del parts
@@ -524,10 +528,10 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     p0 *= h
     p0 += origin
     t *= h
-    for a in range(3):
-        on = axis == a
-        p0[on, a] += t[on]
-    del t, axis, on
+    along = np.arange(0, 3 * p0.shape[0], 3, dtype=np.int32 if 3 * p0.shape[0] < 2 ** 31 else np.int64)
+    along += axis
+    p0.reshape(-1)[along] += t
+    del t, axis, along
     out = pv.PolyData.from_regular_faces(p0, faces)
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
