@@ -144,25 +144,26 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
 def _boundary_cells_2h(lattice, progress):
     """BOUNDARY cells of edge ``2h`` (level ``depth - 1``) and what their classification learned.
 
-    Levels down to ``depth - 3`` are classified by `Solid.value_bounds`.  When
-    the solid uses the default Lipschitz bound, the levels of edge ``4h`` and
-    ``2h`` are classified by the same test on values sampled at the cell
-    centres -- which are lattice nodes, so the mesh reuses them instead of
-    sampling them again -- and the cells found uniform keep their sign, from
-    which the mesh infers the sign of their nodes without sampling them.
+    Levels down to ``depth - 3`` are classified by `Solid.value_bounds`.  The
+    levels of edge ``4h`` and ``2h`` are classified by the Lipschitz test
+    (``|f(centre)| > L * half-diagonal``: uniform) on values sampled at the
+    cell centres -- which are lattice nodes, so the mesh reuses them instead
+    of sampling them again -- and the cells found uniform keep their sign,
+    from which the mesh infers the sign of their nodes without sampling them.
+    The test is rigorous for any solid with a finite Lipschitz constant ``L``.
 
     Returns
     -------
     dict
         ``cells`` (m, 3) int; ``centres`` (m,) values at their centres or
         None; ``uniform`` ((k, 3) cells of edge ``2h``, (k,) int8 signs) and
-        ``uniform_parents`` (the same for cells of edge ``4h``) or None; ``nodes`` ((j, 3) lattice nodes, (j,) values) sampled on the
-        way or None; ``evaluations``.
+        ``uniform_parents`` (the same for cells of edge ``4h``) or None;
+        ``nodes`` ((j, 3) lattice nodes, (j,) values) sampled on the way or
+        None; ``evaluations``.
     """
-    from implicit.solid import Solid
-
     solid, depth = lattice.solid, lattice.depth
-    if type(solid)._value_bounds is not Solid._value_bounds or depth < 3:
+    lip = float(solid.lipschitz)
+    if not (np.isfinite(lip) and lip > 0) or depth < 3:
         result = descend(lattice, keep_leaves=False, stop_level=depth - 1, progress=progress,
                          chunk=CLASSIFY_CHUNK)
         return dict(cells=result["boundary"], centres=None, uniform=None, uniform_parents=None, nodes=None,
@@ -170,7 +171,6 @@ def _boundary_cells_2h(lattice, progress):
     result = descend(lattice, keep_leaves=False, stop_level=depth - 3, progress=progress, chunk=CLASSIFY_CHUNK)
     evaluations = result["evaluations"]
     h = lattice.voxel_size
-    lip = solid.lipschitz
     parents = result["boundary"]
     uniform, node_idx, node_val = [], [], []
     for size in (4, 2):  # cell edge in voxels

@@ -271,3 +271,13 @@ def test_inferred_signs_law_on_random_solids(solid, n, warp):
     if lean.n_points:
         assert np.allclose(np.sort(lean.points, axis=0), np.sort(full.points, axis=0), atol=1e-12)
         assert topology(lean)["edge_counts"] == {2}
+
+
+def test_part_families_get_the_lean_sampling_too():
+    from implicit import instance
+
+    part = instance("hole_plate")
+    lean, full = _lean_and_full(part, 40)
+    assert lean.n_cells == full.n_cells > 0
+    assert np.allclose(np.sort(lean.points, axis=0), np.sort(full.points, axis=0), atol=1e-12)
+    assert lean.field_data["evaluations"][0] < 0.8 * full.field_data["evaluations"][0]
