@@ -112,9 +112,10 @@ def test_faces_on_sample_planes_leave_no_hole():
     assert signed_volume(m) == pytest.approx(1.0, rel=0.02)
 
 
-def test_blocks_merge_independently_of_block_size():
+@pytest.mark.parametrize("small", [2, 6, 8])
+def test_blocks_merge_independently_of_block_size(small):
     s = torus(1.0, 0.3)
-    a = mesh(s, resolution=40, block=8)
+    a = mesh(s, resolution=40, block=small)
     b = mesh(s, resolution=40, block=64)
     assert a.n_cells == b.n_cells and a.n_points == b.n_points
     assert int(a.field_data["blocks"][0]) > int(b.field_data["blocks"][0])
