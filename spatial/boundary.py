@@ -455,10 +455,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     if known is not None:
         known = (known[0], _nudge(known[1], h).astype(np.float32))
     del uniform_cells, uniform_parents, node_values
-    if not (np.isfinite(lip) and lip > 0):
-        centre_infer = False
-    else:
-        centre_infer = centre_values is not None
+    centre_infer = usable and centre_values is not None
     # cells grouped in slabs of `block` voxels along x
     slab_of = cells[:, 0] // per
     order = _stable_order(slab_of)
@@ -476,7 +473,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     try:
         for s0, s1 in zip(slab_starts, slab_ends):
             slab = int(slab_of[s0])
-            job = _SlabJob(solid, origin, h, c, block, slab, stride, lip if centre_infer or uniform is not None else None)
+            job = _SlabJob(solid, origin, h, c, block, slab, stride, lip if usable else None)
             given = None if centre_values is None else centre_values[s0:s1]
             ring = ring_parents = None
             if uniform is not None:
