@@ -1,1 +1,0 @@
-"""Sub-commands of `implicad`, one module each (see `spatial.cli`)."""
