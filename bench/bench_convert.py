@@ -44,7 +44,7 @@ def _cpu():
 
 
 def _grid(solid, cells):
-    from spatial.grid import OccupancyGrid
+    from spatial.cells.grid import OccupancyGrid
 
     lo, hi = solid.bounds
     h = float(np.max(hi - lo)) / cells
@@ -113,7 +113,7 @@ def bench_solids():
 def bench_fitting():
     from implicit import ellipsoid, revolve_curve
     from parametric.curves import BSpline
-    from spatial.convert import fit_section_curve, fit_star_surface, loft_sections
+    from spatial.convert.fitting import fit_section_curve, fit_star_surface, loft_sections
 
     e = ellipsoid((2.0, 1.5, 1.0))
     exact = 4.0 / 3.0 * np.pi * 3.0

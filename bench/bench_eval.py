@@ -150,7 +150,7 @@ def numpy_chunked(part, chunk):
 
 def compile_seconds_fresh() -> dict:
     """Compile times measured in a fresh interpreter (numba's first calls)."""
-    code = ("import time; t = time.perf_counter(); import implicit.compile as c; "
+    code = ("import time; t = time.perf_counter(); import implicit.evaluate.compile as c; "
             "c._kernel('serial'); c._kernel('bin'); c._kernel('unsort'); c._kernel('bounds'); "
             "s = time.perf_counter() - t; c._kernel('parallel'); "
             "print(s, c.COMPILE_SECONDS['parallel'])")

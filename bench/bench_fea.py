@@ -20,7 +20,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from implicit import box, cylinder, sphere, torus  # noqa: E402
 from spatial.fea import surface_for_fea, surface_quality, tet_mesh  # noqa: E402
-from spatial.tetmesh import MeshQualityWarning  # noqa: E402
+from spatial.fea.tetmesh import MeshQualityWarning  # noqa: E402
 
 BENCH = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
     - cylinder(0.5, 4, axis=(0, 0, 1))

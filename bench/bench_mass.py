@@ -24,8 +24,8 @@ import sys
 import time
 
 from implicit import box, cylinder, sphere
-from spatial.mass import mass_properties
-from spatial.octree import Octree
+from spatial.analysis.mass import mass_properties
+from spatial.cells.octree import Octree
 
 VOLUME = 0.98878635
 RUNS = 5

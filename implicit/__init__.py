@@ -41,3 +41,10 @@ __all__ = [
     "curve_profile", "revolve_curve", "extrude_curve", "sweep", "thicken", "surface_solid", "volume_solid",
     "star_solid", "fit_radial_function",
 ]
+
+# Last: the compiled evaluator registers itself with the nodes (it needs numba).
+try:
+    from . import evaluate as _evaluate  # noqa: E402,F401
+except ImportError as _exc:  # pragma: no cover - numba missing: numpy evaluation only
+    if getattr(_exc, "name", None) not in ("numba", "llvmlite"):
+        raise

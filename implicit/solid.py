@@ -47,7 +47,7 @@ INFINITE_BOUNDS = (np.full(3, -np.inf), np.full(3, np.inf))
 EVAL_CHUNK = 16384
 
 # Calls with at least this many points may take the compiled fast path
-# (implicit.compile.fast_evaluate decides; it needs numba).
+# (implicit.evaluate.fast_evaluate decides; it needs numba).
 FAST_PATH_MIN_POINTS = 2048
 
 
@@ -328,10 +328,9 @@ class Solid:
         n = flat.shape[0]
         if n >= FAST_PATH_MIN_POINTS:
             # Large calls go through the compiled, pruned evaluation
-            # (implicit.compile); None means numpy is used (no numba, or a node
+            # (implicit.evaluate); None means numpy is used (no numba, or a node
             # kind without a fast-path rule).
-            from .compile import fast_evaluate
-            fast = fast_evaluate(self, flat)
+            fast = _evaluator["fast_evaluate"](self, flat) if _evaluator else None
             if fast is not None:
                 return fast.reshape(shape)
         if n <= EVAL_CHUNK:
@@ -347,9 +346,10 @@ class Solid:
         return self(points)
 
     def compiled(self, *, parallel: bool = False):
-        """This tree compiled for fast evaluation (`implicit.compile.compile_solid`)."""
-        from .compile import compile_solid
-        return compile_solid(self, parallel=parallel)
+        """This tree compiled for fast evaluation (`implicit.evaluate.compile_solid`)."""
+        if not _evaluator:
+            raise ImportError("the compiled evaluator is not loaded: import implicit.evaluate (it needs numba)")
+        return _evaluator["compile_solid"](self, parallel=parallel)
 
     def _evaluate(self, p: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -501,6 +501,16 @@ class Solid:
 #: Operator implementations, filled in by the modules that define them, so that
 #: `solid.py` stays free of import cycles.
 _ops: dict[str, Callable] = {}
+
+
+#: The compiled evaluator's entry points, registered by `implicit.evaluate` when it
+#: is imported: the nodes never import the evaluator, which imports them.
+_evaluator: dict[str, Callable] = {}
+
+
+def register_evaluator(*, fast_evaluate: Callable, compile_solid: Callable) -> None:
+    """Install the fast path behind `Solid.__call__` and `Solid.compiled`."""
+    _evaluator.update(fast_evaluate=fast_evaluate, compile_solid=compile_solid)
 
 
 def register_operator(name: str):

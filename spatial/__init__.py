@@ -1,14 +1,32 @@
-"""implicad's spatial side: cells, grids, meshes, analysis, files and the command line."""
+"""implicad's spatial side: cells, grids, meshes, analysis, files and the command line.
 
-from .octree import EMPTY, FULL, BOUNDARY, Octree  # noqa: F401
-from .grid import OccupancyGrid  # noqa: F401
-from .boundary import mesh  # noqa: F401
-from .io import save_mesh, load_mesh, mesh_to_solid, save_vdb, load_vdb  # noqa: F401
-from .mass import MassProperties, mass_properties  # noqa: E402,F401
+The package is a house of rooms in layers (docs/ARCHITECTURE.md); a room
+imports only from itself and the rooms below it:
+
+==============  ==========================================================
+``files``       mesh files, atomic writes, progress bars (bottom)
+``cells``       lattice, octree, occupancy grid, OpenVDB level sets
+``meshing``     boundary marching cubes, stitching, vertex refinement
+``analysis``    mass properties, sections, interference, validity
+``convert``     grids and meshes <-> parametric curves and patches
+``fea``         FEA surfaces, tetrahedra, quality, solver files
+``drafting``    pictures and drawings
+``cli``         the ``implicad`` command (top)
+==============  ==========================================================
+
+This module re-exports the public names, so ``spatial.mesh``,
+``spatial.mass_properties`` and the rest work as before.
+"""
+
+from .cells import EMPTY, FULL, BOUNDARY, Octree, OccupancyGrid  # noqa: F401
+from .cells import mesh_to_solid, save_vdb, load_vdb  # noqa: F401
+from .files import save_mesh, load_mesh  # noqa: F401
+from .meshing import mesh  # noqa: F401
+from .analysis import MassProperties, mass_properties  # noqa: F401
 from .analysis import Topology, ValidityReport, topology, check  # noqa: F401
 # (the functions `section` and `interference` stay in their modules, whose names they share)
-from .section import Section  # noqa: F401
-from .interference import Interference, check_assembly  # noqa: F401
+from .analysis import Section  # noqa: F401
+from .analysis import Interference, check_assembly  # noqa: F401
 from .fea import surface_for_fea, surface_quality, tet_mesh, TetMesh, TetQuality, write_fea  # noqa: F401
 from .convert import (  # noqa: F401
     fit_section_curve, loft_sections, fit_star_surface, surface_to_mesh, curve_to_polydata, isoparametric_polydata,

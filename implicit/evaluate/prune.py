@@ -1,7 +1,7 @@
 """Pruning of a tape per spatial bin of points.
 
 The points of a call are sorted into a grid of bins (`grid`, the counting
-sort runs in `implicit.compile`); for every bin, the operands of unions,
+sort runs in `implicit.evaluate.compile`); for every bin, the operands of unions,
 intersections and differences (sharp or smooth) that cannot change the
 result anywhere in the bin's box are switched off (`operand_flags`).
 

@@ -1,4 +1,4 @@
-"""Fast-path rules of the package's node kinds (see `implicit.tape`).
+"""Fast-path rules of the package's node kinds (see `implicit.evaluate.tape`).
 
 Each rule emits the operations that compute what the node's ``_evaluate``
 computes, in the same order of floating-point operations where it can; the
@@ -8,16 +8,15 @@ registered only when those modules import.
 
 from __future__ import annotations
 
-import importlib
-
 import numpy as np
 
-from .csg import (Complement, Difference, Intersection, SmoothDifference, SmoothIntersection,
+from ..csg import (Complement, Difference, Intersection, SmoothDifference, SmoothIntersection,
                   SmoothUnion, Union)
-from .modifiers import Offset, Shell
-from .primitives import Box, Cone, Cylinder, HalfSpace, Sphere, Torus
+from ..modifiers import Offset, Shell
+from ..families import FamilyInstance
+from ..primitives import Box, Capsule, Cone, Cylinder, Ellipsoid, HalfSpace, Sphere, Torus
 from .tape import KernelSource, register_rule
-from .transforms import Affine
+from ..transforms import Affine
 
 __all__: list[str] = []
 
@@ -114,19 +113,6 @@ def _torus(node, gen, coords):
     return gen.op("subk", gen.op("hyp2", a, lz), gen.const(node._r))
 
 
-def _optional_kind(module: str, name: str):
-    """The node class `name` of `module` (relative to this package), or None
-    when it is not there: rules for kinds of other modules never break this
-    one."""
-    try:
-        return getattr(importlib.import_module(module, __package__), name)
-    except (ImportError, AttributeError):
-        return None
-
-
-_Ellipsoid = _optional_kind(".primitives", "Ellipsoid")
-_Capsule = _optional_kind(".primitives", "Capsule")
-_FamilyInstance = _optional_kind(".families", "FamilyInstance")
 
 
 def _ellipsoid(node, gen, coords):
@@ -157,9 +143,8 @@ def _family(node, gen, coords):
     return gen.node(node.children[0], coords)
 
 
-for _cls, _rule in ((_Ellipsoid, _ellipsoid), (_Capsule, _capsule), (_FamilyInstance, _family)):
-    if _cls is not None:
-        register_rule(_cls)(_rule)
+for _cls, _rule in ((Ellipsoid, _ellipsoid), (Capsule, _capsule), (FamilyInstance, _family)):
+    register_rule(_cls)(_rule)
 
 
 def _sharp(node, gen, coords, start: float, combine: str, negate_tools: bool = False) -> int:

@@ -1,19 +1,19 @@
 """The tape of a CSG tree: elementary operations on registers of points.
 
 `Tape(solid)` flattens a tree into rows ``(opcode, destination, operands,
-constant index)`` that the numba interpreter of `implicit.compile` runs on
+constant index)`` that the numba interpreter of `implicit.evaluate.compile` runs on
 blocks of points.  Every node class has a *rule* (`RULES`, filled by
-`implicit.tape_rules`) that emits its operations through `KernelSource`;
+`implicit.evaluate.rules`) that emits its operations through `KernelSource`;
 registers are reused after their last use.  Operands of unions,
 intersections and differences are wrapped in *skips* that pruning switches
 per bin, and their values are *stored* by a second form of the tape run at
-bin centres to bound them (`implicit.prune`).  A node of a kind without a
+bin centres to bound them (`implicit.evaluate.prune`).  A node of a kind without a
 rule becomes an *input* column computed by its own numpy code.
 
 Examples
 --------
 >>> from implicit import sphere, box
->>> from implicit.tape import Tape
+>>> from implicit.evaluate.tape import Tape
 >>> tape = Tape(sphere(1.0) - box(0.5))
 >>> len(tape), len(tape.flags), tape.nreg   # fill, 2 skips, hyp3, subk, max, box, maxneg
 (8, 2, 6)
@@ -25,7 +25,7 @@ from typing import Callable
 
 import numpy as np
 
-from .solid import Solid
+from ..solid import Solid
 
 __all__ = ["Tape", "KernelSource", "OPS", "RULES", "PRUNE_MODES", "register_rule", "Unsupported"]
 
@@ -393,7 +393,7 @@ def _drop(code: np.ndarray, opcode: int) -> np.ndarray:
 
 def _numpy_evaluate(solid: Solid, flat: np.ndarray) -> np.ndarray:
     """The plain numpy evaluation (chunked as `Solid.__call__` does)."""
-    from .solid import EVAL_CHUNK
+    from ..solid import EVAL_CHUNK
     n = flat.shape[0]
     if n <= EVAL_CHUNK:
         return np.asarray(solid._evaluate(flat), dtype=np.float64)
@@ -404,6 +404,3 @@ def _numpy_evaluate(solid: Solid, flat: np.ndarray) -> np.ndarray:
 
 
 _NO_INPUT = np.empty((0, 0))
-
-# The rules of the package's node kinds register themselves.
-from . import tape_rules  # noqa: E402,F401

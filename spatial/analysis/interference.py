@@ -189,7 +189,7 @@ def interference(a, b, *, resolution: int | None = None, voxel_size: float | Non
     contact_tolerance : float, optional
         Clearances at most this are contact (default ``1e-6 h``).
     mesher : callable, optional
-        ``mesher(solid, h) -> PolyData``; default `spatial.boundary.mesh`.
+        ``mesher(solid, h) -> PolyData``; default `spatial.meshing.mesh`.
 
     Returns
     -------
@@ -216,7 +216,8 @@ def interference(a, b, *, resolution: int | None = None, voxel_size: float | Non
     if np.all(lo < hi):
         m = _overlap_mesh(both, h, mesher)
         if m is not None and m.n_cells:
-            from .mass import _faces_array, mesh_moments
+            from ..meshing.arrays import faces_array as _faces_array
+            from .mass_core import mesh_moments
 
             pts, tri = _faces_array(m)
             overlap = (pts.min(axis=0), pts.max(axis=0))
@@ -252,7 +253,7 @@ def _overlap_mesh(both, h, mesher):
     except ValueError:
         from implicit.solid import box_corners
 
-        from .octree import BOUNDARY, FULL, Octree
+        from ..cells import BOUNDARY, FULL, Octree
 
         tree = Octree.from_solid(both, voxel_size=h, progress=False)
         if np.any(tree.state == FULL):

@@ -4,7 +4,7 @@ FULL cells integrate exactly as boxes (each cell's own inertia included);
 BOUNDARY cells count with the fractional occupancy ``clamp(0.5 - d/h, 0, 1)``
 of the distance ``d`` sampled at their centre, a second-order rule.  The
 error bounds are rigorous: the true solid lies between the certain cells and
-the certain plus uncertain ones.  `spatial.mass.mass_properties` is the entry
+the certain plus uncertain ones.  `spatial.analysis.mass.mass_properties` is the entry
 point.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mass import _Raw
+from .mass_core import _Raw
 
 __all__ = ["box_moments"]
 

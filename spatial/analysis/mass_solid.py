@@ -1,25 +1,25 @@
 """Mass properties of solids: corrected marching-cubes meshes, extrapolated.
 
-Each level meshes the solid (`spatial.boundary.mesh`), integrates the mesh
+Each level meshes the solid (`spatial.meshing.mesh`), integrates the mesh
 exactly (divergence theorem) and adds the thin shell between the mesh and the
 true surface (`shell_correction`); levels at ``N/4``, ``N/2`` and ``N``
 cells are Richardson-extrapolated and the spread of the extrapolations gives
-the error estimate.  `spatial.mass.mass_properties` is the entry point.
+the error estimate.  `spatial.analysis.mass.mass_properties` is the entry point.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .mass import (MAX_CELLS, MIN_CELLS, SAFETY, _check_closed, _corners, _faces_array, _moments_of,
+from .mass_core import (MAX_CELLS, MIN_CELLS, SAFETY, _check_closed, _corners, _faces_array, _moments_of,
                    _Raw)
 
 __all__ = ["shell_correction", "default_mesher"]
 
 
 def default_mesher():
-    """``mesher(solid, h) -> PolyData``: `spatial.boundary.mesh` at cell size h."""
-    from .boundary import mesh
+    """``mesher(solid, h) -> PolyData``: `spatial.meshing.mesh` at cell size h."""
+    from ..meshing.boundary import mesh
 
     def mesher(solid, h):
         return mesh(solid, voxel_size=h, progress=None)

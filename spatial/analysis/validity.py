@@ -105,7 +105,7 @@ class Topology:
 
 
 def _triangles(mesh) -> tuple[np.ndarray, np.ndarray]:
-    from .mass import _faces_array
+    from ..meshing.arrays import faces_array as _faces_array
 
     return _faces_array(mesh)
 
@@ -273,7 +273,7 @@ def check(obj, *, resolution: int = 64, mesher=None) -> ValidityReport:
     resolution : int
         Cells across a solid's bounds for its boundary mesh.
     mesher : callable, optional
-        ``mesher(solid, h) -> PolyData``; default `spatial.boundary.mesh`.
+        ``mesher(solid, h) -> PolyData``; default `spatial.meshing.mesh`.
 
     Returns
     -------

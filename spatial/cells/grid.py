@@ -14,58 +14,17 @@ follows the surface.
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 
-from .octree import BOUNDARY, EMPTY, FULL, Octree, make_lattice
-from .progress import progress_bar
+from ..files.progress import progress_bar
+from .lattice import (BOUNDARY, EMPTY, FULL, available_memory, check_dense_memory,  # noqa: F401
+                      make_lattice, provide, provided)
+from .octree import Octree
 
 __all__ = ["OccupancyGrid", "check_dense_memory", "available_memory"]
 
-#: A dense allocation may use at most this fraction of the available memory.
-MEMORY_FRACTION = 0.7
 # Half the diagonal of a unit cube: a voxel whose |distance| exceeds this (in voxels) holds no boundary.
 _HALF_DIAG = 0.5 * np.sqrt(3.0)
-
-
-def available_memory() -> int:
-    """Bytes of physical memory currently available (``os.sysconf``)."""
-    try:
-        return int(os.sysconf("SC_AVPHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
-        return 8 << 30
-
-
-def check_dense_memory(shape, *, bytes_per_voxel, what, max_bytes=None):
-    """Refuse a dense allocation that would not fit.
-
-    Parameters
-    ----------
-    shape : tuple of int
-        Voxels per axis.
-    bytes_per_voxel : float
-        Peak bytes per voxel of the operation.
-    what : str
-        Name of the operation, for the message.
-    max_bytes : int, optional
-        Limit (default: `MEMORY_FRACTION` of the available memory).
-
-    Raises
-    ------
-    MemoryError
-        Naming the estimate (GB), the available memory and the octree route.
-    """
-    need = float(np.prod(np.asarray(shape, dtype=np.float64))) * bytes_per_voxel
-    avail = available_memory()
-    limit = MEMORY_FRACTION * avail if max_bytes is None else float(max_bytes)
-    if need > limit:
-        raise MemoryError(
-            f"{what}: a dense grid of {tuple(int(v) for v in shape)} voxels needs about {need / 1e9:.2f} GB, "
-            f"more than the {limit / 1e9:.2f} GB allowed ({avail / 1e9:.2f} GB available); use "
-            "spatial.Octree.from_solid or spatial.mesh, whose cost follows the surface, or a larger voxel size"
-        )
-    return need
 
 
 class OccupancyGrid:
@@ -247,34 +206,14 @@ class OccupancyGrid:
         """Closed, outward-oriented marching-cubes mesh of the samples (dense).
 
         The grid is padded by one outside sample, so occupancy touching the
-        grid's border still closes; samples at exactly 0 are nudged outwards.
+        grid's border still closes; samples at exactly 0 are nudged outwards
+        (`spatial.meshing.grid_mesh`).
 
         Returns
         -------
         pyvista.PolyData
         """
-        import pyvista as pv
-        from skimage.measure import marching_cubes
-
-        from .boundary import ZERO_NUDGE, empty_mesh
-
-        h = self.voxel_size
-        eps = np.float32(ZERO_NUDGE * h)
-        vol = np.pad(self.distance, 1, constant_values=np.float32(h))
-        small = np.abs(vol) < eps
-        vol[small] = np.where(vol[small] < 0, -eps, eps)
-        if not (vol.min() < 0 < vol.max()):
-            import warnings
-
-            warnings.warn("OccupancyGrid.to_mesh: no boundary in the grid; returning an empty mesh",
-                          RuntimeWarning, stacklevel=2)
-            return empty_mesh(h)
-        verts, faces, _, _ = marching_cubes(vol, 0.0, allow_degenerate=False)
-        points = self.origin + (verts.astype(np.float64) - 0.5) * h
-        out = pv.PolyData(points, np.hstack([np.full((faces.shape[0], 1), 3, np.int64), faces]).ravel())
-        out.field_data["voxel_size"] = np.array([h])
-        out.field_data["evaluations"] = np.array([0], dtype=np.int64)
-        return out
+        return provided("grid_mesh")(self)
 
     def cell_states(self) -> np.ndarray:
         """Per-voxel state: BOUNDARY where ``|d| <= sqrt(3)/2 h`` (the voxel may hold
@@ -329,3 +268,6 @@ class OccupancyGrid:
         return Octree(index=np.concatenate(index), state=np.concatenate(state), level=np.concatenate(level),
                       vmin=np.concatenate(vmin), vmax=np.concatenate(vmax), origin=self.origin, voxel_size=h,
                       depth=depth, shape=np.array(self.shape), bounds=self.bounds, solid=None)
+
+
+provide("OccupancyGrid", OccupancyGrid)

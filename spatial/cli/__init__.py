@@ -1,6 +1,6 @@
 """The `implicad` command.
 
-Each sub-command lives in its own module of `spatial.commands` and provides
+Each sub-command lives in its own module of `spatial.cli` and provides
 ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
 Bad input prints one line on stderr and exits with status 2 (a traceback only
 with ``--debug``).
@@ -45,9 +45,9 @@ def _load_commands():
     commands = []
     for name in COMMAND_MODULES:
         try:
-            module = importlib.import_module(f"spatial.commands.{name}")
+            module = importlib.import_module(f"spatial.cli.{name}")
         except ModuleNotFoundError as exc:
-            if exc.name == f"spatial.commands.{name}":
+            if exc.name == f"spatial.cli.{name}":
                 continue
             raise
         commands.append(module)
@@ -102,6 +102,3 @@ def main(argv=None) -> int:
         return 2
     return int(status or 0)
 
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

@@ -26,7 +26,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ..analysis import check
+    from ..analysis.validity import check
     from .mass import load_target
 
     target = load_target(args.model)

@@ -39,16 +39,16 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     import warnings
 
-    from spatial.cli import CommandError
-    from spatial.fea_io import fea_format, write_fea
+    from . import CommandError
+    from ..fea.files import fea_format, write_fea
 
     fea_format(args.output)  # unknown extension: one line, before any work
     if not args.size > 0:
         raise CommandError(f"--size: expected a positive length, got {args.size:g}")
     from implicit.models import load_model
-    from spatial.fea_surface import surface_for_fea
-    from spatial.progress import progress_bar
-    from spatial.tetmesh import MeshQualityWarning, tet_mesh
+    from ..fea.surface import surface_for_fea
+    from ..files.progress import progress_bar
+    from ..fea.tetmesh import MeshQualityWarning, tet_mesh
 
     solid = load_model(args.model)
     with progress_bar(3, "fea", progress=args.progress, unit="step") as bar:

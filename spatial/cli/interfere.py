@@ -27,7 +27,7 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     from implicit.models import load_assembly
 
-    from ..interference import check_assembly
+    from ..analysis.interference import check_assembly
 
     parts = load_assembly(args.assembly)
     report = check_assembly(parts, resolution=args.resolution)

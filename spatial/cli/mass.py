@@ -1,7 +1,7 @@
 """`implicad mass MODEL`: volume, mass, area, centroid and inertia with error bounds.
 
 A model file (``.py`` / ``.json``) is meshed and integrated with Richardson
-extrapolation (see `spatial.mass`); a mesh file (``.stl``, ``.ply``, ``.obj``,
+extrapolation (see `spatial.analysis.mass`); a mesh file (``.stl``, ``.ply``, ``.obj``,
 ``.vtp``, ``.vtk``) is integrated exactly.  ``--json`` prints one object with
 ``volume``, ``mass``, ``area``, ``centroid``, ``inertia``, ``inertia_origin``,
 ``principal_moments``, ``principal_axes``, ``error`` (same keys, absolute
@@ -26,7 +26,7 @@ MESH_SUFFIXES = (".stl", ".ply", ".obj", ".vtp", ".vtk")
 
 
 def add_arguments(parser) -> None:
-    from ..mass import UNITS
+    from ..analysis.mass import UNITS
 
     parser.add_argument("model", metavar="MODEL", help="model file (.py or .json) or mesh file (.stl, .ply, ...)")
     parser.add_argument("--density", type=float, default=1.0, help="density in kg/m^3 (default 1)")
@@ -42,7 +42,7 @@ def add_arguments(parser) -> None:
 def load_target(path):
     """A mesh for mesh files, else the model's solid."""
     if os.path.splitext(str(path))[1].lower() in MESH_SUFFIXES:
-        from ..io import load_mesh
+        from ..files.meshes import load_mesh
 
         return load_mesh(path)
     from implicit.models import load_model
@@ -88,7 +88,7 @@ def table(props) -> str:
 def run(args) -> int:
     from implicit import Solid
 
-    from ..mass import mass_properties
+    from ..analysis.mass import mass_properties
 
     target = load_target(args.model)
     kw = {}

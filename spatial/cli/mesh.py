@@ -41,8 +41,8 @@ def _load(path):
 
 
 def run(args) -> int:
-    from ..boundary import mesh
-    from ..io import mesh_format, save_mesh
+    from ..meshing.boundary import mesh
+    from ..files.meshes import mesh_format, save_mesh
 
     mesh_format(args.output)  # unknown extension: refused before any work
     bounds = None

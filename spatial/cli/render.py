@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import time
 
-from ..render import STYLES, VIEWS
+from ..drafting.render import STYLES, VIEWS
 
 NAME = "render"
 HELP = "draw a part or an assembly to a PNG picture"
@@ -29,8 +29,8 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..cli import CommandError
-    from ..render import exploded_view, render, render_views
+    from . import CommandError
+    from ..drafting.render import exploded_view, render, render_views
 
     if not args.output.lower().endswith(".png"):
         raise CommandError(f"--output: pictures are written as PNG, expected a name ending in .png, got {args.output!r}")
@@ -44,11 +44,11 @@ def run(args) -> int:
 
     from implicit.models import load_assembly, load_model
 
-    import spatial
+    from ..meshing.boundary import mesh
 
     started = time.perf_counter()
     parts = _load_parts(args.model, load_model, load_assembly)
-    meshes = {name: spatial.mesh(solid, resolution=args.resolution) for name, solid in parts.items()}
+    meshes = {name: mesh(solid, resolution=args.resolution) for name, solid in parts.items()}
     if args.explode is not None and len(meshes) > 1:
         exploded_view(meshes, args.output, factor=args.explode, style=args.style, window_size=args.size)
     elif args.views:

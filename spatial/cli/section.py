@@ -45,7 +45,7 @@ def _plane(args):
 
 def _atomic(path, write, binary=False):
     """Write through `write(handle)` to a temporary file, then rename it."""
-    from ..io import _atomic_write
+    from ..files.atomic import atomic_write as _atomic_write
 
     def write_file(tmp):
         with open(tmp, "wb" if binary else "w") as fh:
@@ -119,7 +119,7 @@ def plot(sec, path, title=""):
 def run(args) -> int:
     from implicit.models import load_model
 
-    from ..section import parse_plane, section
+    from ..analysis.section import parse_plane, section
 
     plane = _plane(args)
     parse_plane(plane)                      # bad planes fail before any work

@@ -4,7 +4,7 @@ From solids (or occupancy grids, through their trilinear `to_solid`):
 
 * `fit_section_curve`: a planar section's contour (scikit-image
   `find_contours` on a sampled plane, points moved onto the true boundary by
-  `spatial.section`), fitted by a closed periodic least-squares B-spline with a
+  `spatial.analysis.section`), fitted by a closed periodic least-squares B-spline with a
   chosen control count or a tolerance, and its maximum deviation;
 * `loft_sections`: a stack of such sections, fitted with one control count
   (so their knot vectors agree), skinned into a B-spline surface (The NURBS
@@ -36,8 +36,8 @@ from parametric.curves import BSpline, Curve
 from parametric.fitting import fit_curve, fit_periodic_surface, loft
 from parametric.surfaces import Surface
 
-from .grid import OccupancyGrid
-from .section import section
+from ..analysis.section import section
+from ..cells.grid import OccupancyGrid
 
 __all__ = [
     "SectionCurve", "LoftResult", "StarFit",
@@ -153,7 +153,7 @@ def fit_section_curve(solid_or_grid, plane="z=0", *, n_control=None, tolerance=N
     solid_or_grid : Solid or OccupancyGrid
         A grid is read through its trilinear interpolant.
     plane : str or (point, normal)
-        ``"z=0.5"`` or a point and normal (see `spatial.section.section`).
+        ``"z=0.5"`` or a point and normal (see `spatial.analysis.section.section`).
     n_control : int, optional
         Distinct control points of the periodic fit.
     tolerance : float, optional

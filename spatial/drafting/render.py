@@ -7,7 +7,7 @@ display VTK is pointed at EGL before the first plotter is made.
 Examples
 --------
 >>> import pyvista as pv
->>> from spatial.render import render
+>>> from spatial.drafting.render import render
 >>> image = render(pv.Cube().triangulate(), style="hidden-line", window_size=(200, 150))
 >>> image.shape
 (150, 200, 3)
@@ -20,7 +20,7 @@ from typing import Mapping
 
 import numpy as np
 
-from .io import _atomic_write
+from ..files.atomic import atomic_write as _atomic_write
 
 __all__ = ["STYLES", "VIEWS", "render", "render_views", "exploded_view", "explode_offsets"]
 

@@ -18,11 +18,11 @@ format    node sets              face (element side) sets
 from __future__ import annotations
 
 import os
-import re
 
 import numpy as np
 
-from .io import _atomic_write
+from ..files.atomic import atomic_write as _atomic_write
+from .model import TetMesh, _boundary_cells, _cell_type, _region_ids, set_name, to_meshio  # noqa: F401
 
 __all__ = ["FEA_FORMATS", "fea_format", "write_fea", "to_meshio", "set_name"]
 
@@ -44,68 +44,6 @@ def fea_format(path) -> str:
     if ext not in FEA_FORMATS:
         raise ValueError(f"output: unknown extension {ext or '(none)'!r}; expected one of {', '.join(FEA_FORMATS)}")
     return ext
-
-
-def set_name(name: str) -> str:
-    """A set name every format accepts: letters, digits and underscores, starting with a letter.
-
-    Examples
-    --------
-    >>> set_name("box_1.+x"), set_name("cylinder_2.wall")
-    ('box_1_px', 'cylinder_2_wall')
-    """
-    out = name.replace("+", "p").replace("-", "m")
-    out = re.sub(r"[^A-Za-z0-9_]", "_", out)
-    if not out or not out[0].isalpha():
-        out = "s_" + out
-    return out
-
-
-def _cell_type(mesh):
-    return "tetra" if mesh.order == 1 else "tetra10"
-
-
-def _boundary_cells(mesh):
-    """Boundary triangles with their mid nodes for 10-node meshes (meshio triangle6 order)."""
-    from .tetmesh import _side_nodes
-
-    nodes = _side_nodes(mesh.tets, mesh.boundary_element, mesh.boundary_side)
-    if mesh.order == 2:
-        # Side mids are on edges (c0c1, c1c2, c2c0) in _SIDE_MIDS order: reorder to triangle6.
-        return "triangle6", nodes
-    return "triangle", nodes
-
-
-def _region_ids(mesh):
-    """Region number (1..) of each boundary face and the names in order."""
-    names = [k for k in mesh.face_sets if k != "surface"]
-    region = np.zeros(len(mesh.boundary), dtype=np.int64)
-    for i, k in enumerate(names):
-        region[mesh.face_sets[k]] = i + 1
-    return region, names
-
-
-def to_meshio(mesh, *, with_boundary: bool = True):
-    """A `meshio.Mesh` of `mesh`: elements, boundary triangles, node and element sets.
-
-    Parameters
-    ----------
-    mesh : TetMesh
-    with_boundary : bool
-        Add the boundary triangles as a second cell block.
-    """
-    import meshio
-
-    cells = [(_cell_type(mesh), np.asarray(mesh.tets))]
-    region, names = _region_ids(mesh)
-    cell_sets = {}
-    if with_boundary:
-        tri_type, tri = _boundary_cells(mesh)
-        cells.append((tri_type, tri))
-        for i, k in enumerate(names):
-            cell_sets[set_name(k)] = [np.zeros(0, dtype=np.int64), np.nonzero(region == i + 1)[0]]
-    point_sets = {set_name(k): np.asarray(v) for k, v in mesh.node_sets.items()}
-    return meshio.Mesh(np.asarray(mesh.points), cells, point_sets=point_sets, cell_sets=cell_sets)
 
 
 def _write_gmsh(mesh, path, version):
@@ -256,8 +194,6 @@ def write_fea(mesh, path, *, format_version: str = "4.1") -> str:
     >>> write_fea(mesh, "part.inp")                 # doctest: +SKIP
     'part.inp'
     """
-    from .tetmesh import TetMesh
-
     if not isinstance(mesh, TetMesh):
         raise TypeError(f"mesh: expected a TetMesh, got {type(mesh).__name__}")
     ext = fea_format(path)

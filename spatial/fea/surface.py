@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from implicit.solid import Solid, as_positive
-from .fea_facets import FacetField, facet_field, project_to_surface, solve_on_facets
+from .facets import FacetField, facet_field, project_to_surface, solve_on_facets
 
 __all__ = [
     "FacetField",
@@ -423,7 +423,7 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         if not solid.is_bounded or solid.is_empty_bounds:
             raise ValueError("solid_or_mesh: expected a bounded, non-empty solid")
         try:
-            from .boundary import mesh as _mesh_solid
+            from ..meshing.boundary import mesh as _mesh_solid
         except ImportError as exc:
             raise ImportError("surface_for_fea needs spatial.mesh to mesh a Solid; pass a surface mesh instead") from exc
         mesh = _mesh_solid(solid, voxel_size=voxel_size or size / 4.0)

@@ -21,20 +21,16 @@ import os
 import tempfile
 import warnings
 from contextlib import contextmanager
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from implicit.solid import Solid, as_positive
-from .fea_surface import (FacetField, _deviation, _is_closed_manifold, mesh_faces, project_to_surface,
+from .surface import (FacetField, _deviation, _is_closed_manifold, mesh_faces, project_to_surface,
                           self_intersections, surface_for_fea)
-from .tet_quality import TetQuality, _EDGES, dihedral_angles, tet_quality, tet_volumes
+from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
+from .quality import _EDGES, dihedral_angles, tet_quality, tet_volumes
 
 __all__ = ["TetMesh", "tet_mesh", "MeshQualityWarning", "SIDE_NODES"]
-
-#: Corner nodes of each element side, Abaqus / CalculiX numbering S1..S4
-#: (outward normals by the right-hand rule for a positive tetrahedron).
-SIDE_NODES = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]])
 
 #: The two corners shared by sides i and j (``_SIDE_COMMON[i, j]``).
 _SIDE_COMMON = np.array([[sorted(set(SIDE_NODES[i]) & set(SIDE_NODES[j])) if i != j else [0, 0]
@@ -65,67 +61,6 @@ def _scratch_directory():
 
 class MeshQualityWarning(UserWarning):
     """The mesher stopped short of the asked quality (e.g. at its Steiner-point cap)."""
-
-
-@dataclass(frozen=True)
-class TetMesh:
-    """A tetrahedral mesh with named boundary sets.
-
-    Attributes
-    ----------
-    points : (n, 3) float
-        Node coordinates.
-    tets : (m, 4) or (m, 10) int
-        Elements, VTK / meshio node order (corners, then mid-edge nodes on
-        edges 01, 12, 02, 03, 13, 23).
-    boundary : (b, 3) int
-        Corner nodes of the boundary triangles, outward.
-    boundary_element : (b,) int
-        The element each boundary triangle belongs to.
-    boundary_side : (b,) int
-        Its side, 0..3 for Abaqus S1..S4 (see `SIDE_NODES`).
-    face_sets : dict of str -> (k,) int
-        Indices into `boundary` for each named region; ``"surface"`` holds all.
-    node_sets : dict of str -> (k,) int
-        Node indices (corner and mid-edge) on each region.
-    quality : TetQuality
-    surface_deviation : float or None
-        Largest ``|f|`` of the solid over the boundary nodes and face centres.
-    """
-
-    points: np.ndarray
-    tets: np.ndarray
-    boundary: np.ndarray
-    boundary_element: np.ndarray
-    boundary_side: np.ndarray
-    face_sets: dict
-    node_sets: dict
-    quality: TetQuality
-    surface_deviation: float | None = None
-    info: dict = field(default_factory=dict)
-
-    @property
-    def order(self) -> int:
-        """1 for 4-node, 2 for 10-node tetrahedra."""
-        return 1 if self.tets.shape[1] == 4 else 2
-
-    @property
-    def volume(self) -> float:
-        """Sum of the element volumes (curved for 10-node elements)."""
-        return float(tet_volumes(self.points, self.tets).sum())
-
-    def to_pyvista(self):
-        """The mesh as a `pyvista.UnstructuredGrid`."""
-        import pyvista as pv
-
-        ctype = pv.CellType.TETRA if self.order == 1 else pv.CellType.QUADRATIC_TETRA
-        return pv.UnstructuredGrid({ctype: np.asarray(self.tets)}, np.asarray(self.points))
-
-    def to_meshio(self):
-        """The mesh as a `meshio.Mesh` with point, cell and boundary-triangle sets."""
-        from .fea_io import to_meshio
-
-        return to_meshio(self)
 
 
 # ---------------------------------------------------------------------------
@@ -313,7 +248,7 @@ def _project_midnodes(solid, ff, points, tets10, boundary, n_corner, size):
     on_both = (np.abs(fa) < tol) & (np.abs(fb) < tol)  # (k, e)
     feature = on_both.sum(axis=0) >= 2
     if feature.any():
-        from .fea_facets import solve_on_facets
+        from .facets import solve_on_facets
 
         ii = np.nonzero(feature)[0]
         sets = np.full((ii.size, 2), -1, dtype=np.int64)
@@ -323,7 +258,7 @@ def _project_midnodes(solid, ff, points, tets10, boundary, n_corner, size):
         good = (np.linalg.norm(snapped - start[ii], axis=1) < size) & np.isfinite(snapped).all(axis=1)
         moved[ii[good]] = snapped[good]
     pts[mids] = moved
-    from .tet_quality import scaled_jacobian
+    from .quality import scaled_jacobian
 
     for _ in range(5):
         sj = scaled_jacobian(pts, tets10)
@@ -350,17 +285,6 @@ def _name_sets(ff, points, boundary, boundary_side, boundary_element, tets):
         face_sets[name] = sel
         node_sets[name] = np.unique(side_all[sel])
     return face_sets, node_sets
-
-
-# Mid-edge nodes of each side (positions 4..9 in the element), for 10-node elements.
-_SIDE_MIDS = np.array([[6, 5, 4], [4, 8, 7], [5, 9, 8], [6, 7, 9]])
-
-
-def _side_nodes(tets, elem, side):
-    corners = tets[elem[:, None], SIDE_NODES[side]]
-    if tets.shape[1] == 10:
-        return np.concatenate([corners, tets[elem[:, None], _SIDE_MIDS[side]]], axis=1)
-    return corners
 
 
 # ---------------------------------------------------------------------------

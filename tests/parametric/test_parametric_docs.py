@@ -5,7 +5,7 @@ import importlib
 
 import pytest
 
-MODULES = ["basis", "conics", "curve_base", "curves", "fitting", "projection", "surfaces", "tensor", "volumes"]
+MODULES = ["basis", "conics", "curve_base", "curves", "fitting", "projection", "coons", "bicubic", "tensor", "volumes"]
 
 
 @pytest.mark.parametrize("name", MODULES)

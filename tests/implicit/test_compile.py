@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-import implicit.compile as fast
-import implicit.prune as prune
+import implicit.evaluate.compile as fast
+import implicit.evaluate.prune as prune
 from implicit import (box, cone, cylinder, difference, frustum, halfspace, intersection,
                       rounded_box, smooth_difference, smooth_intersection, smooth_union, sphere,
                       torus, union)
-from implicit.compile import RULES, compile_solid, register_rule
+from implicit.evaluate.compile import RULES, compile_solid, register_rule
 from implicit.families import instance
 from implicit.primitives import capsule, ellipsoid
 from implicit.solid import Solid

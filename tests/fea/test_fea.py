@@ -12,10 +12,10 @@ from hypothesis import given, settings, strategies as st
 from skimage.measure import marching_cubes
 
 from implicit import box, cylinder, sphere, torus
-from spatial.fea_io import FEA_FORMATS, set_name, write_fea
-from spatial.fea_surface import FacetField, project_to_surface, self_intersections, surface_for_fea, surface_quality
-from spatial.tet_quality import dihedral_angles, radius_edge_ratio, scaled_jacobian, tet_quality, tet_volumes
-from spatial.tetmesh import SIDE_NODES, MeshQualityWarning, tet_mesh
+from spatial.fea.files import FEA_FORMATS, set_name, write_fea
+from spatial.fea.surface import FacetField, project_to_surface, self_intersections, surface_for_fea, surface_quality
+from spatial.fea.quality import dihedral_angles, radius_edge_ratio, scaled_jacobian, tet_quality, tet_volumes
+from spatial.fea.tetmesh import SIDE_NODES, MeshQualityWarning, tet_mesh
 
 #: Quality every mesh must reach (degrees), and volume agreement with closed forms.
 MIN_DIHEDRAL = 10.0
@@ -377,7 +377,7 @@ def test_cli_unknown_extension_fails_before_work(tmp_path, capsys):
 
 
 def test_cli_meshes_a_model(tmp_path, capsys):
-    pytest.importorskip("spatial.boundary")
+    pytest.importorskip("spatial.meshing")
     from spatial.cli import main
 
     model = tmp_path / "ball.py"
@@ -392,7 +392,7 @@ def test_cli_meshes_a_model(tmp_path, capsys):
 
 
 def test_cli_quadratic_gmsh22_without_a_terminal(tmp_path, capsys):
-    pytest.importorskip("spatial.boundary")
+    pytest.importorskip("spatial.meshing")
     from spatial.cli import main
 
     model = tmp_path / "ring.py"

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 
-from spatial.render import exploded_view, explode_offsets, render, render_views
+from spatial.drafting.render import exploded_view, explode_offsets, render, render_views
 
 
 @pytest.fixture(scope="module")

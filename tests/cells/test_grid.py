@@ -7,7 +7,7 @@ import pytest
 
 from implicit import box, sphere, torus
 from spatial import BOUNDARY, FULL, OccupancyGrid, Octree
-from spatial.grid import check_dense_memory
+from spatial.cells.grid import check_dense_memory
 
 from meshcheck import topology
 

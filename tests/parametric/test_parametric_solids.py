@@ -338,7 +338,7 @@ def test_fields_never_exceed_the_true_distance(p):
 
 def test_meshed_volumes_of_revolve_and_extrude_match_closed_forms():
     spatial = pytest.importorskip("spatial")
-    mass_properties = pytest.importorskip("spatial.mass").mass_properties
+    mass_properties = pytest.importorskip("spatial.analysis.mass").mass_properties
     tube = revolve_curve(_rectangle_curve(0.5, 1.5, -1.0, 1.0))
     rod = extrude_curve(ellipse(1.5, 1.0, center=(0.0, 0.0)), 2.0)
     surface = spatial.mesh(tube, resolution=48)

@@ -8,7 +8,8 @@ import pytest
 
 from implicit import sphere, torus
 from spatial import OccupancyGrid, mesh
-from spatial.io import MESH_FORMATS, import_openvdb, load_mesh, load_vdb, mesh_to_solid, save_mesh, save_vdb, \
+from spatial.files import MESH_FORMATS, load_mesh, save_mesh
+from spatial.cells.vdb import import_openvdb, load_vdb, mesh_to_solid, save_vdb, \
     vdb_metadata
 
 from meshcheck import topology

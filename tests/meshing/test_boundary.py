@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from implicit import box, cylinder, halfspace, sphere, torus
 from spatial import mesh
-from spatial.boundary import mesh_block
+from spatial.meshing.blocks import mesh_block
 
 from meshcheck import min_area, signed_volume, topology, vertex_manifold
 from test_octree import solids as random_solids
@@ -193,8 +193,8 @@ def test_mesh_block_is_pure_and_keys_edges():
                                       (box(1.0) - sphere(0.6, center=(0.5, 0.5, 0.5)), 40)],
                          ids=["benchmark", "torus", "box-sphere"])
 def test_inferred_signs_give_the_fully_sampled_mesh(solid, n):
-    from spatial.boundary import _boundary_cells_2h, mesh_cells
-    from spatial.octree import make_lattice
+    from spatial.meshing.boundary import _boundary_cells_2h, mesh_cells
+    from spatial.cells.lattice import make_lattice
 
     lattice = make_lattice(solid, resolution=n)
     found = _boundary_cells_2h(lattice, False)
@@ -216,7 +216,7 @@ def test_benchmark_part_evaluation_budget():
 
 
 def test_certified_vertices_skip_refinement():
-    from spatial.boundary import REFINE_ACCEPT, _certified
+    from spatial.meshing.refine import REFINE_ACCEPT, _certified
 
     h = 0.1
     f0 = np.array([-0.03, -0.03, -0.0001, -0.05], np.float32)
@@ -232,7 +232,7 @@ def test_certified_vertices_skip_refinement():
 @given(shape=st.lists(st.integers(1, 5), min_size=1, max_size=4), axis=st.integers(0, 3),
        dtype=st.sampled_from([np.bool_, np.int8, np.uint8]))
 def test_repeat2_is_numpy_repeat(shape, axis, dtype):
-    from spatial.boundary import _repeat2
+    from spatial.meshing.arrays import _repeat2
 
     axis = axis % len(shape)
     arr = (np.arange(int(np.prod(shape))).reshape(shape) % 3 - 1).astype(dtype)
@@ -242,8 +242,8 @@ def test_repeat2_is_numpy_repeat(shape, axis, dtype):
 
 def _lean_and_full(solid, n):
     """The mesh as `mesh` builds it, and the one from every node of the same boundary cells sampled."""
-    from spatial.boundary import _boundary_cells_2h, mesh_cells
-    from spatial.octree import make_lattice
+    from spatial.meshing.boundary import _boundary_cells_2h, mesh_cells
+    from spatial.cells.lattice import make_lattice
 
     lattice = make_lattice(solid, resolution=n)
     found = _boundary_cells_2h(lattice, False)

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-import spatial.interference as interference_module
+import spatial.analysis.interference as interference_module
 from implicit import box, cylinder, sphere
-from spatial.interference import box_pairs, check_assembly, interference
+from spatial.analysis.interference import box_pairs, check_assembly, interference
 
 
 def test_overlapping_spheres_lens_volume():

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from implicit import box, cylinder, sphere, torus
-from spatial.section import parse_plane, section
+from spatial.analysis.section import parse_plane, section
 
 RADIUS_TOL = 1e-6     # refined contour points lie on the true boundary
 AREA_TOL = 1e-6       # relative, smooth outlines at 128 samples

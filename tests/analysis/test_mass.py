@@ -8,7 +8,7 @@ import pyvista as pv
 from hypothesis import given, settings, strategies as st
 
 from implicit import box, cone, cylinder, sphere, torus
-from spatial.mass import MassProperties, OpenMeshError, UNITS, mass_properties, mesh_moments
+from spatial.analysis.mass import MassProperties, OpenMeshError, UNITS, mass_properties, mesh_moments
 
 #: Relative tolerances of the accuracy targets.
 SMOOTH_TOL = 1e-4          # volume and principal moments, smooth parts, N = 128
@@ -21,7 +21,7 @@ RICHARDSON_TOL = 1e-6      # extrapolated volume, smooth parts, N = 128
 def _mesher():
     """`spatial.mesh` when present, else a dense marching-cubes stand-in."""
     try:
-        from spatial.boundary import mesh as spatial_mesh
+        from spatial.meshing.boundary import mesh as spatial_mesh
         return lambda solid, h: spatial_mesh(solid, voxel_size=h, progress=False)
     except ImportError:  # pragma: no cover - the mesher is part of the package
         from skimage import measure
@@ -287,7 +287,7 @@ def test_tolerance_drives_resolution():
 
 @pytest.mark.parametrize("name", ["sphere", "torus", "box", "cone"])
 def test_octree_bounds_contain_true_volume(name):
-    from spatial.octree import Octree
+    from spatial.cells.octree import Octree
 
     s, V, _, c, moments = PARTS[name][:5]
     tree = Octree.from_solid(s, resolution=32)
@@ -304,7 +304,7 @@ def test_octree_bounds_contain_true_volume(name):
 
 def test_octree_full_cells_integrate_exactly():
     """A box aligned with the cells has no boundary inside it: exact moments."""
-    from spatial.octree import Octree
+    from spatial.cells.octree import Octree
 
     s = box((1.0, 0.5, 0.25), center=(0.5, 0.25, 0.125))
     tree = Octree.from_solid(s, voxel_size=1 / 16, bounds=((0, 0, 0), (1, 1, 1)))
@@ -316,7 +316,7 @@ def test_octree_full_cells_integrate_exactly():
 
 @pytest.mark.parametrize("name", ["sphere", "torus", "cylinder"])
 def test_occupancy_grid_fractional_occupancy(name):
-    from spatial.grid import OccupancyGrid
+    from spatial.cells.grid import OccupancyGrid
 
     s, V, A, c, moments = PARTS[name][:5]
     grid = OccupancyGrid.from_solid(s, resolution=48)

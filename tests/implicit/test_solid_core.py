@@ -29,7 +29,7 @@ def test_large_arrays_are_evaluated_in_chunks_identically():
     pts = rng.uniform(-1, 1, (100_003, 3))
     whole = part(pts)
     pieces = np.concatenate([part(pts[i:i + 1000]) for i in range(0, len(pts), 1000)])
-    # Large calls take the compiled path (implicit.compile): equal up to rounding.
+    # Large calls take the compiled path (implicit.evaluate): equal up to rounding.
     np.testing.assert_allclose(whole, pieces, rtol=0, atol=1e-12)
 
 

@@ -9,11 +9,11 @@ from implicit.serialize import from_json, to_json
 from implicit.star_solids import fit_radial_function
 from parametric.conics import circle as nurbs_circle
 from parametric.tensor import sphere as nurbs_sphere, torus as nurbs_torus
-from spatial.convert import (
+from spatial.convert.fitting import (
     curve_to_polydata, fit_section_curve, fit_star_surface, isoparametric_polydata, loft_sections,
     star_radii, surface_to_mesh,
 )
-from spatial.grid import OccupancyGrid
+from spatial.cells.grid import OccupancyGrid
 
 #: Fit tolerance asked for in the section tests.
 FIT_TOL = 1e-4

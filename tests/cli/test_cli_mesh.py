@@ -5,7 +5,7 @@ import os
 import pytest
 
 from spatial.cli import main
-from spatial.io import load_mesh
+from spatial.files.meshes import load_mesh
 
 from meshcheck import topology
 

@@ -5,7 +5,7 @@ import pytest
 import pyvista as pv
 
 from implicit import box, cylinder, halfspace, sphere, torus
-from spatial.analysis import check, topology
+from spatial.analysis.validity import check, topology
 from test_mass import MESHER
 
 BENCH = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \

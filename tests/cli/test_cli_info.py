@@ -12,7 +12,7 @@ import pytest
 from spatial.cli import main
 from implicit.models import load_any, load_assembly, load_model
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 
 

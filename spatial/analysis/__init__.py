@@ -1,0 +1,25 @@
+"""Measurements of solids and meshes: mass properties, sections, interference, validity.
+
+`mass_properties` with error bounds for meshes, grids, octrees and solids
+(`mass`, over `mass_core`, `mass_cells`, `mass_solid`), planar sections
+(`section`), interference of assemblies (`interference`) and the topology and
+validity of meshes (`validity`: bodies, genus, Euler-Poincare, `check`).
+Above `meshing`, `cells` and `files`.
+
+Examples
+--------
+>>> from implicit import box
+>>> from spatial.analysis import mass_properties
+>>> round(mass_properties(box(2.0), resolution=16).volume, 6)
+8.0
+"""
+
+from .mass import MassError, MassProperties, OpenMeshError, UNITS, mass_properties, mesh_moments  # noqa: F401
+from .validity import Topology, ValidityReport, check, topology  # noqa: F401
+# (the functions `section` and `interference` stay in their modules, whose names they share)
+from .section import Section, parse_plane  # noqa: F401
+from .interference import Interference, box_pairs, check_assembly  # noqa: F401
+
+__all__ = ["MassProperties", "MassError", "OpenMeshError", "UNITS", "mass_properties", "mesh_moments", "Topology",
+           "ValidityReport", "check", "topology", "Section", "parse_plane", "Interference", "box_pairs",
+           "check_assembly"]

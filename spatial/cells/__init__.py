@@ -1,0 +1,28 @@
+"""Cell decompositions of a solid: the lattice, octree cells, occupancy grids, VDB level sets.
+
+`make_lattice` / `descend` (`lattice`: the regular lattice and its conservative
+FULL / EMPTY / BOUNDARY classification by value bounds), `Octree` (`octree`:
+the leaves as flat arrays), `OccupancyGrid` (`grid`: dense sampled distances
+and their occupancy) and OpenVDB narrow-band level sets and `.vdb` files
+(`vdb`: `save_vdb`, `load_vdb`, `mesh_to_solid`).  Above `files` only; the
+meshers of the room above reach the cells' ``to_mesh`` methods through
+`lattice.provide`.
+
+Examples
+--------
+>>> from implicit import sphere
+>>> from spatial.cells import Octree, BOUNDARY
+>>> tree = Octree.from_solid(sphere(1.0), resolution=16)
+>>> bool((tree.state == BOUNDARY).any())
+True
+"""
+
+from .lattice import (BOUNDARY, EMPTY, FULL, STATE_NAMES, CHILD_OFFSETS, Lattice, available_memory,  # noqa: F401
+                      check_dense_memory, descend, make_lattice)
+from .octree import Octree  # noqa: F401
+from .grid import OccupancyGrid  # noqa: F401
+from .vdb import VDB_HALF_WIDTH, import_openvdb, load_vdb, mesh_to_solid, save_vdb, vdb_metadata  # noqa: F401
+
+__all__ = ["BOUNDARY", "EMPTY", "FULL", "STATE_NAMES", "Lattice", "make_lattice", "descend", "Octree",
+           "OccupancyGrid", "check_dense_memory", "available_memory", "save_vdb", "load_vdb", "mesh_to_solid",
+           "vdb_metadata", "import_openvdb"]

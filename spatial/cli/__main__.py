@@ -1,0 +1,7 @@
+"""``python -m spatial.cli``: the `implicad` command."""
+
+import sys
+
+from . import main
+
+sys.exit(main())

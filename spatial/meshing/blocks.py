@@ -1,0 +1,145 @@
+"""One block of cells: marching cubes as a pure function of its samples, and the merge of blocks."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["mesh_block", "merge_blocks", "check_block"]
+
+
+def check_block(block):
+    if isinstance(block, bool) or not isinstance(block, (int, np.integer)):
+        raise TypeError(f"block: expected an even integer number of voxels, got {block!r}")
+    if not 2 <= block <= 256 or block % 2:
+        raise ValueError(f"block: expected an even number of voxels from 2 to 256, got {block}")
+    return int(block)
+
+
+def mesh_block(values, mask):
+    """Marching cubes of one block; vertices identified by their lattice edge.
+
+    Parameters
+    ----------
+    values : (a+1, b+1, c+1) float32
+        Samples at the block's lattice nodes, none exactly 0 (see `ZERO_NUDGE`).
+    mask : (a+1, b+1, c+1) bool
+        ``mask[i+1, j+1, k+1]`` selects the voxel with lower node ``(i, j, k)``
+        (scikit-image's convention).
+
+    Returns
+    -------
+    node : (v, 3) int64
+        Local lower node of each vertex's edge.
+    axis : (v,) int64
+        Direction of the edge (0, 1, 2).
+    f0, f1 : (v,) float32
+        Samples at the edge's two ends (opposite signs).
+    faces : (f, 3) int32
+        Triangles as indices into the vertices, wound outward (negative
+        inside).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.arange(3, dtype=np.float32) - 0.5
+    >>> vals = np.broadcast_to(x[:, None, None], (3, 3, 3)).copy()
+    >>> mask = np.zeros((3, 3, 3), bool); mask[1, 1, 1] = True
+    >>> node, axis, f0, f1, faces = mesh_block(vals, mask)
+    >>> faces.shape, sorted(set(axis.tolist()))
+    ((2, 3), [0])
+    """
+    verts, faces = _marching_cubes(values, mask)
+    if verts is None:
+        return (np.empty((0, 3), np.int64), np.empty(0, np.int64), np.empty(0, np.float32),
+                np.empty(0, np.float32), np.empty((0, 3), np.int32))
+    node, axis = _edges_of(verts)
+    node = node.astype(np.int64)
+    f0 = values[node[:, 0], node[:, 1], node[:, 2]]
+    upper = node.copy()
+    upper[np.arange(node.shape[0]), axis] += 1
+    f1 = values[upper[:, 0], upper[:, 1], upper[:, 2]]
+    return node, axis.astype(np.int64), f0, f1, faces.astype(np.int32)
+
+
+def _marching_cubes(values, mask):
+    """scikit-image's Lewiner marching cubes at level 0: ``(vertices, faces)``, or ``(None, None)``
+    when no surface crosses the block."""
+    from skimage.measure import marching_cubes
+
+    try:
+        verts, faces, _, _ = marching_cubes(values, 0.0, mask=mask, allow_degenerate=True)
+    except (RuntimeError, ValueError):
+        # No sign change in the block ('No surface found' / level out of range).
+        return None, None
+    return verts, faces
+
+
+def _edges_of(verts):
+    """Lower node (int32) and axis of the lattice edge each vertex lies on.
+
+    Marching cubes puts every vertex strictly inside an edge (no sample is 0):
+    two coordinates are integers, the third is the fractional one.
+    """
+    rounded = np.rint(verts)
+    axis = np.argmax(np.abs(verts - rounded), axis=1)
+    node = rounded.astype(np.int32)
+    rows = np.arange(verts.shape[0])
+    node[rows, axis] = np.floor(verts[rows, axis])
+    return node, axis
+
+
+def merge_blocks(parts):
+    """Merge per-block results into one indexed mesh keyed by global edge id.
+
+    Only vertices on an edge lying in a block-grid plane can belong to two
+    blocks; they are merged by their integer edge id (no floating-point
+    comparison), the others are taken as they are.
+
+    Parameters
+    ----------
+    parts : list of (edges, shared, data, faces)
+        Per block: global edge ids ``3 * node + axis`` of its vertices that
+        may be shared with another block, the boolean mask of those vertices,
+        a tuple of per-vertex arrays (merged likewise; a vertex found in two
+        blocks has the same data in both) and the triangles (local vertex
+        indices).  The list is emptied as it is merged, so that the memory
+        of the parts is released as the merged arrays fill.
+
+    Returns
+    -------
+    data : tuple of arrays
+        The per-vertex arrays of the merged vertices (non-shared first).
+    faces : (f, 3) int32 (int64 beyond 2**31 vertices)
+        Triangles indexing the merged vertices.
+    """
+    parts[:] = [p for p in parts if p[3].shape[0]]
+    if not parts:
+        return None, np.empty((0, 3), np.int32)
+    shared_edges = np.concatenate([p[0] for p in parts])
+    uniq, inverse = np.unique(shared_edges, return_inverse=True)
+    del shared_edges
+    n_private = sum(int(p[1].shape[0] - np.count_nonzero(p[1])) for p in parts)
+    n_total = n_private + uniq.shape[0]
+    del uniq
+    itype = np.int32 if n_total < 2 ** 31 else np.int64
+    data = [np.empty((n_total,) + arr.shape[1:], dtype=arr.dtype) for arr in parts[0][2]]
+    faces = np.empty((sum(p[3].shape[0] for p in parts), 3), dtype=itype)
+    row = private_at = shared_at = 0
+    for i in range(len(parts)):
+        _, sh, pdata, pfaces = parts[i]
+        parts[i] = None
+        k_sh = int(np.count_nonzero(sh))
+        k_pr = sh.shape[0] - k_sh
+        index = np.empty(sh.shape[0], dtype=itype)
+        index[~sh] = np.arange(private_at, private_at + k_pr, dtype=itype)
+        index[sh] = n_private + inverse[shared_at:shared_at + k_sh]
+        for out, arr in zip(data, pdata):
+            out[private_at:private_at + k_pr] = arr[~sh]
+            out[index[sh]] = arr[sh]
+        k = pfaces.shape[0]
+        faces[row:row + k] = index[pfaces]
+        row += k
+        private_at += k_pr
+        shared_at += k_sh
+    parts.clear()
+    return tuple(data), faces

@@ -1,0 +1,198 @@
+"""The meshing pipeline over a set of boundary cells: slabs, merge, refinement."""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+
+from ..files.progress import progress_bar
+from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _stable_order, empty_mesh
+from .blocks import check_block as _check_block, merge_blocks
+from .refine import _certified, _refine_on_edges
+from .slab import _SlabJob
+
+__all__ = ["mesh_cells"]
+
+
+def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
+               block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, uniform_parents=None, node_values=None,
+               _stacklevel=2):
+    """Mesh the boundary through the given cells of a lattice.
+
+    Parameters
+    ----------
+    solid : Solid
+    origin : (3,) float
+        Position of lattice node (0, 0, 0).
+    voxel_size : float
+        Voxel edge ``h``; node ``(i, j, k)`` is at ``origin + (i, j, k) * h``.
+    cells : (m, 3) int
+        Lower corners of the cells that may hold boundary, in units of
+        ``cell_size`` voxels.  Every other cell must hold samples of one strict
+        sign only (FULL or EMPTY).
+    cell_size : {1, 2}
+        Voxels per side of a cell.
+    refine, progress, block
+        See `mesh`.
+    evaluations : int
+        Evaluations already spent (added to the mesh's count).
+    centre_values : (m,) float, optional
+        The field at the cells' centres when already sampled (``cell_size``
+        2 only): those nodes are not sampled again, and nodes close to a
+        centre far enough from the level take its sign without being sampled.
+    uniform_cells : ((k, 3) int, (k,) int8), optional
+        Cells (same units) known to hold one strict sign, and that sign
+        (``cell_size`` 2 only): their nodes take it without being sampled.
+    uniform_parents : ((k, 3) int, (k,) int8), optional
+        The same for cells twice as large (``2 * cell_size`` voxels).
+    node_values : ((j, 3) int, (j,) float), optional
+        Lattice nodes already sampled and their values (``cell_size`` 2
+        only): reused, and their neighbours far enough from the level take
+        their sign.
+
+    Returns
+    -------
+    pyvista.PolyData
+
+    Notes
+    -----
+    A node's sign is all marching cubes needs unless the node ends an edge
+    the surface crosses, so sampling runs in two passes: first the nodes
+    whose sign is not known (from a centre value ``v`` at distance ``d`` with
+    ``|v| > L d``, ``L`` the solid's Lipschitz constant, or from a uniform
+    cell holding the node), then the ends of crossing edges still without a
+    value.  Both passes are rigorous: an inferred sign is the true one.
+    """
+    import pyvista as pv
+
+    t0 = time.perf_counter()
+    h = float(voxel_size)
+    c = int(cell_size)
+    block = _check_block(block)
+    origin = np.asarray(origin, dtype=np.float64)
+    cells = np.asarray(cells, dtype=np.int64).reshape(-1, 3)
+    if cells.shape[0] == 0:
+        warnings.warn("mesh: no boundary in the region (the solid is empty there or fills it); "
+                      "returning an empty mesh", RuntimeWarning, stacklevel=_stacklevel)
+        return empty_mesh(h, evaluations)
+    if np.any(cells < 0):
+        raise ValueError("cells: expected non-negative lattice indices")
+    if block % c:
+        raise ValueError(f"block: expected a multiple of the cell size {c}, got {block}")
+    lip = float(getattr(solid, "lipschitz", np.inf))
+    stride = np.int64(int((cells.max() + 1) * c) + 2)  # global node ids: (x * S + y) * S + z
+    per = block // c  # cells per block side
+
+    if centre_values is not None:
+        if c != 2:
+            raise ValueError("centre_values: only for cells of 2 voxels")
+        centre_values = np.asarray(centre_values, dtype=np.float64).reshape(-1)
+        if centre_values.shape[0] != cells.shape[0]:
+            raise ValueError(f"centre_values: expected {cells.shape[0]} values, got {centre_values.shape[0]}")
+    usable = np.isfinite(lip) and lip > 0  # inference needs a finite Lipschitz constant
+    uniform = _by_x(uniform_cells, "uniform_cells", "signs", np.int32, np.int8, c) if usable else None
+    parents = _by_x(uniform_parents, "uniform_parents", "signs", np.int32, np.int8, c) if usable else None
+    known = _by_x(node_values, "node_values", "values", np.int64, np.float64, c) if usable else None
+    # their x columns, contiguous for the searches of every slab
+    uniform_x, parents_x, known_x = (None if p is None else np.ascontiguousarray(p[0][:, 0])
+                                     for p in (uniform, parents, known))
+    if known is not None:
+        known = (known[0], _nudge(known[1], h).astype(np.float32))
+    del uniform_cells, uniform_parents, node_values
+    centre_infer = usable and centre_values is not None
+    # cells grouped in slabs of `block` voxels along x
+    slab_of = cells[:, 0] // per
+    order = _stable_order(slab_of)
+    cells, slab_of = cells[order], slab_of[order]
+    if centre_values is not None:
+        centre_values = _nudge(centre_values[order], h).astype(np.float32)
+    del order
+    slab_starts = np.flatnonzero(np.r_[True, slab_of[1:] != slab_of[:-1]])
+    slab_ends = np.r_[slab_starts[1:], cells.shape[0]]
+
+    parts = []
+    n_blocks = 0
+    handoff = None  # (slab, sorted node ids, values, signs) of the previous slab's upper node plane
+    bar = progress_bar(len(slab_starts), "mesh", progress, unit="slab")
+    try:
+        for s0, s1 in zip(slab_starts, slab_ends):
+            slab = int(slab_of[s0])
+            job = _SlabJob(solid, origin, h, c, block, slab, stride, lip if usable else None)
+            given = None if centre_values is None else centre_values[s0:s1]
+            ring = ring_parents = None
+            if uniform is not None:
+                lo_x, hi_x = slab * per - 1, (slab + 1) * per
+                a, b = np.searchsorted(uniform_x, [lo_x, hi_x + 1])
+                ring = (uniform[0][a:b], uniform[1][a:b])
+            if parents is not None:
+                lo_x, hi_x = (slab * per - 1) // 2, ((slab + 1) * per) // 2
+                a, b = np.searchsorted(parents_x, [lo_x, hi_x + 1])
+                ring_parents = (parents[0][a:b], parents[1][a:b])
+            extra = None
+            if known is not None:
+                # nodes strictly inside the slab (those on its planes are shared: not worth merging)
+                a, b = np.searchsorted(known_x, [slab * block + 1, (slab + 1) * block])
+                extra = (known[0][a:b], known[1][a:b])
+            nb, spent, handoff = job.run(cells[s0:s1], given, (ring, ring_parents), centre_infer, handoff, parts,
+                                         extra)
+            n_blocks += nb
+            evaluations += spent
+            bar.update()
+    finally:
+        bar.close()
+    n_cells = int(cells.shape[0])
+    del cells, slab_of, centre_values, uniform, parents, known, handoff, uniform_x, parents_x, known_x
+    _release_free_memory()
+    data, faces = merge_blocks(parts)
+    del parts
+    _release_free_memory()
+    if faces.shape[0] == 0:
+        warnings.warn("mesh: no surface crosses the sampled nodes (features thinner than the voxel size?); "
+                      "returning an empty mesh", RuntimeWarning, stacklevel=_stacklevel)
+        return empty_mesh(h, evaluations)
+
+    # -- vertex positions: on their edge, interpolated then refined ------------------------
+    # (ordered to keep few vertex-sized arrays alive at once: this is the peak of memory)
+    nodes, axis, f0, f1 = data
+    del data
+    t = f0 / (f0.astype(np.float64) - f1)
+    if refine:
+        rows = np.flatnonzero(~_certified(f0, f1, h, lip)).astype(np.int32)
+        spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows)
+        evaluations += spent
+        del rows
+    del f0, f1
+    _release_free_memory()
+    p0 = np.empty(nodes.shape, dtype=np.float64)
+    p0[...] = nodes
+    del nodes
+    p0 *= h
+    p0 += origin
+    t *= h
+    along = np.arange(0, 3 * p0.shape[0], 3, dtype=np.int32 if 3 * p0.shape[0] < 2 ** 31 else np.int64)
+    along += axis
+    p0.reshape(-1)[along] += t
+    del t, axis, along
+    out = pv.PolyData.from_regular_faces(p0, faces)
+    out.field_data["voxel_size"] = np.array([h])
+    out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
+    out.field_data["boundary_cells"] = np.array([n_cells], dtype=np.int64)
+    out.field_data["blocks"] = np.array([n_blocks], dtype=np.int64)
+    out.field_data["seconds"] = np.array([time.perf_counter() - t0])
+    return out
+
+
+def _by_x(pair, name, what, index_type, value_type, cell_size):
+    """``(indices (k, 3), per-row values)`` checked and sorted by x, or None."""
+    if pair is None:
+        return None
+    if cell_size != 2:
+        raise ValueError(f"{name}: only for cells of 2 voxels")
+    idx = np.asarray(pair[0], dtype=index_type).reshape(-1, 3)
+    val = np.asarray(pair[1], dtype=value_type).reshape(-1)
+    if idx.shape[0] != val.shape[0]:
+        raise ValueError(f"{name}: expected as many {what} as rows, got {val.shape[0]} for {idx.shape[0]}")
+    order = _stable_order(idx[:, 0])
+    return idx[order], val[order]

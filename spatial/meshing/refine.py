@@ -1,0 +1,98 @@
+"""Vertices moved onto the true surface along their lattice edge, and those that need not move."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .arrays import EVAL_CHUNK, REFINE_ACCEPT, REFINE_STEPS, REFINE_TOL, ZERO_NUDGE
+
+__all__ = []
+
+
+def _certified(f0, f1, h, lip):
+    """Vertices whose linear interpolation is already within ``REFINE_ACCEPT * h`` of the level.
+
+    On an edge of length ``h`` with end values ``f0 < 0 < f1`` (or the
+    reverse), an ``L``-Lipschitz field has a root in ``[|f0| / (L h), 1 - |f1|
+    / (L h)]``, an interval that holds the interpolated point too; so ``|f|``
+    there is at most ``L h w`` with ``w = 1 - (|f0| + |f1|) / (L h)``.  An
+    edge crossing a plane square on has ``w = 0``.  Ends pushed off the
+    level (`ZERO_NUDGE`) are not trusted.
+    """
+    if not (np.isfinite(lip) and lip > 0):
+        return np.zeros(f0.shape[0], dtype=bool)
+    floor = np.float32(ZERO_NUDGE * h * (1 + 1e-3))
+    a = np.abs(f0)
+    trusted = a > floor
+    both = np.abs(f1)
+    trusted &= both > floor
+    both += a
+    del a
+    # L h w = L h - (|f0| + |f1|) <= REFINE_ACCEPT h; single precision is ample for that
+    trusted &= both >= np.float32(lip * h - REFINE_ACCEPT * h)
+    return trusted
+
+
+def _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows=None, steps=REFINE_STEPS, tol=REFINE_TOL,
+                     accept=REFINE_ACCEPT, chunk=EVAL_CHUNK):
+    """Illinois regula falsi for the root of f along each vertex's edge, in place.
+
+    Vertex ``i`` lies at ``origin + (nodes[i] + t[i] * e[axis[i]]) * h``.  The bracket
+    ``[a, b]`` (initially ``[0, 1]``, end values of opposite signs) is kept,
+    so every vertex stays on its edge.  Only vertices whose value is still
+    above ``tol * h`` are updated; those already within ``accept * h`` take
+    that last update without being evaluated again.  Works on chunks of
+    vertices (`rows`, default all) to bound the temporaries; `t` is updated
+    in place.  Returns the number of evaluations spent.
+    """
+    rows = np.arange(t.shape[0]) if rows is None else np.asarray(rows)
+    spent = 0
+    for s0 in range(0, rows.shape[0], chunk):
+        sl = rows[s0:s0 + chunk]
+        p0 = nodes[sl] * h + origin
+        t[sl], used = _refine_chunk(solid, p0, axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol, accept)
+        spent += used
+    return spent
+
+
+def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol, accept):
+    n = t.shape[0]
+    t = t.copy()
+    a = np.zeros(n)
+    b = np.ones(n)
+    fa = fa.astype(np.float64)
+    fb = fb.astype(np.float64)
+    side = np.zeros(n, dtype=np.int8)
+    active = np.arange(n)
+    spent = 0
+    for step in range(steps):
+        if active.size == 0:
+            break
+        if step == 0:  # every vertex: no gathers
+            q = p0.copy()
+            q.reshape(-1)[3 * active + axis] += t * h
+        else:
+            q = p0[active]
+            q[np.arange(active.size), axis[active]] += t[active] * h
+        ft = solid(q)
+        spent += active.size
+        busy = np.abs(ft) > tol * h
+        active, ft = active[busy], ft[busy]
+        ta, aa, ba, fa_, fb_, sd = t[active], a[active], b[active], fa[active], fb[active], side[active]
+        left = (ft > 0) == (fa_ > 0)
+        # the root lies in [t, b] when f(t) has the sign of f(a)
+        aa = np.where(left, ta, aa)
+        ba = np.where(left, ba, ta)
+        new_fa = np.where(left, ft, fa_)
+        new_fb = np.where(left, fb_, ft)
+        if step:  # Illinois: halve the value of an end kept twice in a row (no end is, at the first step)
+            new_fb = np.where(left & (sd == 1), 0.5 * new_fb, new_fb)
+            new_fa = np.where(~left & (sd == -1), 0.5 * new_fa, new_fa)
+        denom = new_fb - new_fa
+        ok = denom != 0
+        t_new = np.where(ok, (aa * new_fb - ba * new_fa) / np.where(ok, denom, 1.0), 0.5 * (aa + ba))
+        t[active] = np.clip(t_new, aa, ba)
+        a[active], b[active], fa[active], fb[active] = aa, ba, new_fa, new_fb
+        side[active] = np.where(left, 1, -1)
+        active = active[np.abs(ft) > accept * h]
+    return t, spent

@@ -1,0 +1,363 @@
+"""Sampling and meshing one slab of boundary cells (two passes, signs inferred where proven)."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from .arrays import _evaluate, _nudge, _repeat2
+from .blocks import _edges_of, _marching_cubes
+
+__all__ = []
+
+# Bits of a node's code while a slab is sampled.
+NEEDED, POSITIVE, NEGATIVE = 1, 2, 4
+
+# Offsets from a cell's centre node to the other 26 nodes of a cell of 2 voxels, by distance (in h).
+_NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
+                        if (i, j, k) != (0, 0, 0)], dtype=np.int64)
+_NEIGHBOUR_DIST = np.sqrt((_NEIGHBOURS ** 2).sum(axis=1))
+
+
+class _SlabJob:
+    """Sample and mesh one slab of cells (x from ``slab * block`` voxels, ``block`` thick).
+
+    The slab's active blocks (those holding cells) are stacked in dense
+    ``(nb, block+1, block+1, block+1)`` arrays, so the work follows the
+    surface.  Only nodes of the cells are considered, each evaluated at most
+    once: nodes on a face shared by two blocks are merged by their integer
+    id, and the lower node plane reuses what the previous slab learned about
+    its upper plane (`handoff`: sorted ids, values -- NaN when only the sign
+    is known -- and signs).
+    """
+
+    def __init__(self, solid, origin, h, c, block, slab, stride, lip):
+        self.solid, self.origin, self.h, self.c = solid, origin, h, c
+        self.B, self.P = block, block // c
+        self.slab, self.stride, self.lip = slab, stride, lip
+        self.x0 = slab * block
+        self.nbz = int(stride) // block + 3  # block keys: by * nbz + bz, the same in every slab
+
+    # -- the parts -------------------------------------------------------------------------
+    def _blocks(self, sc):
+        P = self.P
+        by = sc[:, 1] // P
+        bz = sc[:, 2] // P
+        keys, inv = np.unique(by * self.nbz + bz, return_inverse=True)
+        self.keys = keys
+        self.bys, self.bzs = np.divmod(keys, self.nbz)
+        self.nb = keys.shape[0]
+        self.cl = (inv, sc[:, 0] - self.slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P)
+        cells = np.zeros((self.nb, P, P, P), dtype=bool)
+        cells[self.cl] = True
+        return cells
+
+    def _needed(self, cells):
+        """Nodes of the cells, for cells without a ring of known neighbours (`_node_codes` serves
+        cells of 2 voxels): a separable dilation (each axis: repeat c times, OR a shift by one)."""
+        c = self.c
+        need = cells
+        for ax in (1, 2, 3):
+            rep = np.repeat(need, c, axis=ax) if c > 1 else need
+            shape = list(rep.shape)
+            shape[ax] += 1
+            grown = np.zeros(shape, dtype=bool)
+            lo_sl = [slice(None)] * 4
+            hi_sl = [slice(None)] * 4
+            lo_sl[ax] = slice(0, -1)
+            hi_sl[ax] = slice(1, None)
+            grown[tuple(lo_sl)] = rep
+            grown[tuple(hi_sl)] |= rep
+            need = grown
+        return need
+
+    def _node_codes(self, sc, ring, ring_parents=None):
+        """What each node of the slab's blocks is known to be, ``(nb, B+1, B+1, B+1)`` uint8 (cells of 2 voxels).
+
+        Bit `NEEDED` marks the nodes of boundary cells, `POSITIVE` / `NEGATIVE`
+        the sign given by a uniform cell holding the node.  A block's nodes
+        are held by the cells of its ring ``[-1, P]`` (local cell coordinates,
+        P cells per side), read from the slab's cell states over the y/z span
+        of its active blocks; the codes go from cells to nodes by an OR, which
+        keeps every bit since the signs of uniform cells agree.
+        """
+        P = self.P
+        y0, y1 = int(self.bys.min()) * P - 1, (int(self.bys.max()) + 1) * P + 1
+        z0, z1 = int(self.bzs.min()) * P - 1, (int(self.bzs.max()) + 1) * P + 1
+        xc = self.slab * P - 1
+        state = np.zeros((P + 2, y1 - y0, z1 - z0), dtype=np.uint8)
+        if ring_parents is not None and ring_parents[0].shape[0]:
+            # uniform cells twice as large: painted at their own scale, then each over its 8 children
+            lo = np.array([xc, y0, z0]) // 2
+            hi = -(-np.array([xc + P + 2, y1, z1]) // 2)
+            idx, sgn = ring_parents
+            sel = ((idx >= lo) & (idx < hi)).all(axis=1)
+            coarse = np.zeros(tuple((hi - lo).tolist()), dtype=np.uint8)
+            coarse[tuple((idx[sel] - lo).T)] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
+            for ax in range(3):
+                coarse = _repeat2(coarse, ax)
+            shift = np.array([xc, y0, z0]) - 2 * lo
+            state |= coarse[shift[0]:shift[0] + state.shape[0], shift[1]:shift[1] + state.shape[1],
+                            shift[2]:shift[2] + state.shape[2]]
+        if ring is not None and ring[0].shape[0]:
+            idx, sgn = ring
+            sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
+            state[idx[sel, 0] - xc, idx[sel, 1] - y0, idx[sel, 2] - z0] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
+        state[sc[:, 0] - xc, sc[:, 1] - y0, sc[:, 2] - z0] = NEEDED
+        ry = (self.bys * P - 1 - y0)[:, None] + np.arange(P + 2)
+        rz = (self.bzs * P - 1 - z0)[:, None] + np.arange(P + 2)
+        rx = np.arange(P + 2)
+        out = state[rx[None, :, None, None], ry[:, None, :, None], rz[:, None, None, :]]  # (nb, P+2, P+2, P+2)
+        # cells -> nodes, axis by axis: node j lies in ring cells (j+1)//2 and (j+2)//2, i.e. between
+        # entries j+1 and j+2 of the ring repeated twice
+        for ax in (1, 2, 3):
+            twice = _repeat2(out, ax)
+            a_sl = [slice(None)] * 4
+            b_sl = [slice(None)] * 4
+            a_sl[ax] = slice(1, 2 * P + 2)
+            b_sl[ax] = slice(2, 2 * P + 3)
+            out = twice[tuple(a_sl)] | twice[tuple(b_sl)]
+        return out
+
+    def _known_in_blocks(self, extra):
+        """Block-local positions of already sampled nodes strictly inside an active block."""
+        B = self.B
+        idx, val = extra
+        by, ly = np.divmod(idx[:, 1], B)
+        bz, lz = np.divmod(idx[:, 2], B)
+        key = by * self.nbz + bz
+        pos = np.minimum(np.searchsorted(self.keys, key), self.nb - 1)
+        hit = (self.keys[pos] == key) & (ly != 0) & (lz != 0)
+        return pos[hit], idx[hit, 0] - self.x0, ly[hit], lz[hit], val[hit]
+
+    def _infer_around(self, code, b_, x_, y_, z_, v):
+        """Signs of the 26 neighbours of sampled nodes ``v`` farther than ``d`` from the level (``|v| > L d``).
+
+        Written as `POSITIVE` / `NEGATIVE` bits into the node codes.  The
+        sampled nodes lie strictly inside their block, so every neighbour is
+        a node of the same block.
+        """
+        n = self.B + 1
+        gs = np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
+        mag = np.abs(v)
+        base = ((b_.astype(np.int64) * n + x_) * n + y_) * n + z_
+        flat = code.reshape(-1)
+        step = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1)
+        for d in np.unique(_NEIGHBOUR_DIST):
+            # float32 values: a margin for their rounding
+            far = np.flatnonzero(mag > np.float32(self.lip * d * self.h * (1 + 1e-6)))
+            if far.size:
+                at, s = base[far], gs[far]
+                for off in step[_NEIGHBOUR_DIST == d]:
+                    flat[at + off] |= s
+        flat[base] |= gs
+
+    def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
+        """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
+        B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
+        cells = self._blocks(sc)
+        code = self._node_codes(sc, *ring) if c == 2 else self._needed(cells).view(np.uint8)
+        sampled = []  # (block, x, y, z, value) of nodes already sampled
+        if given is not None:
+            b_, x_, y_, z_ = self.cl
+            sampled.append((b_, 2 * x_ + 1, 2 * y_ + 1, 2 * z_ + 1, given))
+        if extra is not None and extra[0].shape[0]:
+            sampled.append(self._known_in_blocks(extra))
+        for b_, x_, y_, z_, v in sampled:
+            if centre_infer:
+                self._infer_around(code, b_, x_, y_, z_, v)
+            else:
+                code[b_, x_, y_, z_] |= np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
+        # -- the needed nodes as a list, with global ids -----------------------------------
+        flat = np.flatnonzero((code.reshape(-1) & NEEDED).view(bool))  # NEEDED is bit 0: 0/1 bytes
+        n3 = (B + 1) ** 3
+        # positions within the slab's arrays fit 32 bits: halves the memory of the node lists
+        itype = np.int32 if code.size < 2 ** 31 else np.int64
+        flat = flat.astype(itype)
+        rest = flat % itype(n3)
+        # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
+        maybe = _shared_nodes(B)[rest]
+        top = np.flatnonzero(rest >= B * (B + 1) ** 2)  # the upper x plane, handed to the next slab
+        del rest
+        y_base = (self.bys * B).astype(itype)
+        z_base = (self.bzs * B).astype(itype)
+
+        def where_(rows):
+            """Slab x, global y and z of the needed nodes `rows` (only the few that need them)."""
+            b_, r_ = np.divmod(flat[rows], itype(n3))
+            x_, r_ = np.divmod(r_, itype((B + 1) ** 2))
+            y_, z_ = np.divmod(r_, itype(B + 1))
+            return x_, y_base[b_] + y_, z_base[b_] + z_
+
+        def ids(rows):
+            x_, y_, z_ = where_(rows)
+            return ((x_.astype(np.int64) + x0) * stride + y_) * stride + z_
+
+        s_n = code.reshape(-1)[flat]
+        s_n = ((s_n >> 1) & 1).astype(np.int8) - ((s_n >> 2) & 1).astype(np.int8)
+        v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
+        for b_, x_, y_, z_, v in sampled:
+            # nodes already sampled (never on a block face) hold their values
+            at = ((b_.astype(np.int64) * (B + 1) + x_) * (B + 1) + y_) * (B + 1) + z_
+            pos = np.minimum(np.searchsorted(flat, at), flat.shape[0] - 1)
+            hit = flat[pos] == at
+            v_n[pos[hit]] = v[hit]
+        del sampled
+        m_idx = np.flatnonzero(maybe)
+        uniq, ufirst, back = np.unique(ids(m_idx), return_index=True, return_inverse=True)
+        s_u = np.zeros(uniq.shape[0], dtype=np.int8)
+        s_m = s_n[m_idx]
+        s_u[back[s_m != 0]] = s_m[s_m != 0]
+        v_u = np.full(uniq.shape[0], np.nan, dtype=np.float32)
+        if handoff is not None and handoff[0] == self.slab - 1 and handoff[1].size:
+            pid, pval, psgn = handoff[1], handoff[2], handoff[3]
+            pos = np.minimum(np.searchsorted(pid, uniq), pid.size - 1)
+            hit = pid[pos] == uniq
+            v_u[hit] = pval[pos[hit]]
+            s_u[hit] |= psgn[pos[hit]]
+        del s_m
+        single = ~maybe
+        spent = 0
+
+        def sample(sel_single, sel_unique):
+            """Evaluate the chosen single nodes and unique merged nodes in one call."""
+            pick = np.concatenate([np.flatnonzero(sel_single), m_idx[ufirst[sel_unique]]])
+            x_, y_, z_ = where_(pick)
+            pts = np.empty((pick.shape[0], 3))
+            pts[:, 0] = self.origin[0] + (x_ + x0) * h
+            pts[:, 1] = self.origin[1] + y_ * h
+            pts[:, 2] = self.origin[2] + z_ * h
+            del x_, y_, z_
+            vals = _nudge(_evaluate(self.solid, pts), h).astype(np.float32) if pick.shape[0] else np.empty(0, np.float32)
+            k = int(np.count_nonzero(sel_single))
+            return vals[:k], vals[k:], int(pick.shape[0])
+
+        # -- pass 1: nodes of unknown sign ---------------------------------------------------
+        t1 = single & (s_n == 0)
+        t1u = s_u == 0
+        a, b, n = sample(t1, t1u)
+        spent += n
+        v_n[t1] = a
+        v_u[t1u] = b
+        s_n[t1] = np.where(a < 0, -1, 1)
+        s_u[t1u] = np.where(b < 0, -1, 1)
+        s_n[m_idx] = s_u[back]
+        v_n[m_idx] = v_u[back]
+        del t1, t1u, a, b
+        # -- pass 2: the ends of crossing edges without a value -------------------------------
+        # (before marching cubes, which resolves its ambiguous faces and cubes from the values)
+        sgn = code.view(np.int8)  # the codes are spent: their memory holds the signs
+        sgn[...] = 0
+        sgn.reshape(-1)[flat] = s_n
+        want = np.zeros(code.shape, dtype=bool)
+        for ax in (1, 2, 3):
+            lo_sl = [slice(None)] * 4
+            hi_sl = [slice(None)] * 4
+            lo_sl[ax] = slice(0, -1)
+            hi_sl[ax] = slice(1, None)
+            cross = (sgn[tuple(lo_sl)] * sgn[tuple(hi_sl)]) < 0
+            want[tuple(lo_sl)] |= cross
+            want[tuple(hi_sl)] |= cross
+        del cross, sgn, code
+        w_n = want.reshape(-1)[flat] & np.isnan(v_n)
+        del want
+        w_u = np.zeros(uniq.shape[0], dtype=bool)
+        w_u[back[w_n[m_idx]]] = True
+        w_s = w_n & single
+        del w_n
+        a, b, n = sample(w_s, w_u)
+        spent += n
+        v_n[w_s] = a
+        v_u[w_u] = b
+        v_n[m_idx] = v_u[back]
+        del w_s, w_u, a, b
+        # -- marching cubes: a sign-only node gets +-L h, an unused node 1 ------------------
+        placeholder = v_n.copy()
+        missing = np.isnan(v_n)
+        if missing.any():
+            scale = np.float32(self.lip * h if self.lip else h)
+            placeholder[missing] = s_n[missing].astype(np.float32) * scale
+        del missing
+        values = np.ones(self.nb * (B + 1) ** 3, dtype=np.float32)
+        values[flat] = placeholder
+        del placeholder
+        raw = self._mesh_blocks(cells, values.reshape(self.nb, B + 1, B + 1, B + 1))
+        if raw is not None:
+            # every end of a crossing edge holds its value: read the ends from the dense samples
+            vblk, node, axis, faces = raw
+            del raw
+            n1 = B + 1
+            end = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
+            f0 = values[end]
+            end += np.array([n1 * n1, n1, 1], dtype=np.int64)[axis]
+            f1 = values[end]
+            del end
+            # a vertex on an edge lying in a block face may be another block's too
+            shared = (((node == 0) | (node == B)) & (axis[:, None] != np.arange(3))).any(axis=1)
+            node[:, 0] += x0
+            node[:, 1] += (self.bys[vblk] * B).astype(np.int32)
+            node[:, 2] += (self.bzs[vblk] * B).astype(np.int32)
+            del vblk
+            edges = ((node[:, 0].astype(np.int64) * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
+            parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
+            del edges, shared, node, axis, f0, f1, faces
+        del values
+        # the upper plane goes to the next slab (values NaN where only the sign is known)
+        hid, first = np.unique(ids(top), return_index=True)
+        handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
+        return self.nb, spent, handoff
+
+    def _mesh_blocks(self, cells, values):
+        """Marching cubes on every active block of the slab: ``(block, lower node of the edge
+        (block-local), axis, faces)`` of the slab's vertices, or None."""
+        B, c, x0, stride = self.B, self.c, self.x0, self.stride
+        inv = self.cl[0]
+        local = np.stack(self.cl[1:], axis=1)
+        lows = np.full((self.nb, 3), self.P, dtype=np.int64)
+        highs = np.zeros((self.nb, 3), dtype=np.int64)
+        np.minimum.at(lows, inv, local)
+        np.maximum.at(highs, inv, local + 1)
+        # the voxels of the cells, for the whole slab at once
+        voxels = cells
+        if c == 2:
+            for ax in (1, 2, 3):
+                voxels = _repeat2(voxels, ax)
+        elif c > 1:
+            for ax in (1, 2, 3):
+                voxels = np.repeat(voxels, c, axis=ax)
+        verts, faces, counts, origins = [], [], [], []
+        n_verts = 0
+        for b in range(self.nb):
+            box_lo, box_hi = (lows[b] * c).tolist(), (highs[b] * c).tolist()
+            cb = voxels[b, box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
+            xs, ys, zs = box_lo
+            box = (b, slice(xs, xs + cb.shape[0] + 1), slice(ys, ys + cb.shape[1] + 1),
+                   slice(zs, zs + cb.shape[2] + 1))
+            vol = np.ascontiguousarray(values[box])
+            mask = np.zeros(vol.shape, dtype=bool)
+            mask[1:, 1:, 1:] = cb
+            v, f = _marching_cubes(vol, mask)
+            if v is None or f.shape[0] == 0:
+                continue
+            verts.append(v)
+            faces.append(f + n_verts if n_verts else f)
+            counts.append(v.shape[0])
+            origins.append((b, xs, ys, zs))
+            n_verts += v.shape[0]
+        if not verts:
+            return None
+        verts = np.concatenate(verts)
+        faces = np.concatenate(faces).astype(np.int32 if n_verts < 2 ** 31 else np.int64)
+        where = np.repeat(np.asarray(origins, dtype=np.int32), counts, axis=0)
+        node, axis = _edges_of(verts)
+        del verts
+        node += where[:, 1:]
+        return where[:, 0], node, axis, faces
+
+
+@functools.lru_cache(maxsize=8)
+def _shared_nodes(B):
+    """Flat mask of a block's nodes that another block may hold too: its y/z faces and its lower x plane."""
+    i, j, k = np.ogrid[:B + 1, :B + 1, :B + 1]
+    return ((j % B == 0) | (k % B == 0) | (i == 0)).reshape(-1)
