@@ -1,0 +1,309 @@
+"""Feature edges and silhouettes of a boundary mesh, snapped to the solid.
+
+A marching-cubes mesh chamfers every sharp edge with a strip of triangles;
+the dihedral angles inside that strip are half the true angle each, so
+thresholding mesh normals draws every edge twice.  Here every triangle takes
+the exact normal of the CSG leaf whose surface it lies on (the leaf with the
+smallest ``|field|`` at its centroid, its gradient by central differences):
+across a chamfer strip those normals jump once, from one face to the other,
+and an edge is drawn where two neighbouring triangles' exact normals differ
+by more than `FEATURE_ANGLE`.  The chain of mesh vertices along that jump is
+then moved onto the true edge by a small quadric error fit (the tangent
+planes of the triangles around each vertex, as dual contouring places its
+vertices), so a straight edge comes out straight and a corner sharp.
+
+Silhouettes depend on the view: on the curved triangles (whose exact
+normals vary), the zero set of ``normal . direction`` interpolated between
+vertices (marching triangles) is the contour of the surface seen along
+`direction`.
+
+References
+----------
+T. Ju, F. Losasso, S. Schaefer, J. Warren, "Dual Contouring of Hermite Data",
+SIGGRAPH 2002 (vertex placement by a truncated pseudo-inverse).
+
+Examples
+--------
+>>> import spatial
+>>> from implicit import box
+>>> m = spatial.mesh(box((4, 2, 1)), resolution=24, progress=False)
+>>> lines = surface_edges(m, box((4, 2, 1)))
+>>> round(sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in lines.polylines), 1)
+28.0
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .csg_features import leaf_gradients, leaves, nearest_leaf
+
+__all__ = ["FEATURE_ANGLE", "SurfaceEdges", "surface_edges", "silhouettes", "strip_segments"]
+
+#: Smallest angle (degrees) between the faces of a drawn edge; tangent edges are not drawn.
+FEATURE_ANGLE = 20.0
+
+#: Vertex normals differing by less than this (radians) make a triangle flat: it has no silhouette.
+_FLAT = 1e-4
+
+#: Corner normals differing by more than this (degrees) straddle an edge rather than a curved face.
+_CURVED_MAX = 35.0
+
+
+@dataclass
+class SurfaceEdges:
+    """Sharp edges of a surface and what silhouettes need.
+
+    Attributes
+    ----------
+    polylines : list of (k, 3) float
+        Feature edges in world coordinates, chained.
+    points : (n, 3) float
+        Mesh vertices.
+    triangles : (t, 3) int
+    corner_normals : (t, 3, 3) float
+        Exact outward normal at each triangle's three vertices.
+    curved : (t,) bool
+        Triangles on curved faces (the only ones with silhouettes).
+    voxel_size : float
+    """
+
+    polylines: list
+    points: np.ndarray
+    triangles: np.ndarray
+    corner_normals: np.ndarray
+    curved: np.ndarray
+    voxel_size: float
+
+
+def _triangles(mesh) -> np.ndarray:
+    faces = np.asarray(mesh.faces)
+    if faces.size == 0:
+        return np.zeros((0, 3), dtype=np.int64)
+    if faces.size % 4 or np.any(faces.reshape(-1, 4)[:, 0] != 3):
+        mesh = mesh.triangulate()
+        faces = np.asarray(mesh.faces)
+    return faces.reshape(-1, 4)[:, 1:].astype(np.int64)
+
+
+def _edge_pairs(tris: np.ndarray):
+    """Unique edges ``(e, 2)`` and the two triangles on each ``(e, 2)`` (-1 on a border)."""
+    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    owner = np.tile(np.arange(len(tris)), 3)
+    e = np.sort(e, axis=1)
+    uniq, inv = np.unique(e, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    order = np.argsort(inv, kind="stable")
+    counts = np.bincount(inv, minlength=len(uniq))
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    first = owner[order[starts]]
+    second = np.where(counts >= 2, owner[order[np.minimum(starts + 1, len(order) - 1)]], -1)
+    return uniq, np.column_stack([first, second])
+
+
+def strip_segments(points: np.ndarray, segments: np.ndarray) -> list[np.ndarray]:
+    """Join segments ``(s, 2)`` of vertex indices into polylines (VTK's stripper)."""
+    if len(segments) == 0:
+        return []
+    import pyvista as pv
+
+    lines = np.column_stack([np.full(len(segments), 2), segments]).ravel()
+    poly = pv.PolyData(np.asarray(points, dtype=float), lines=lines)
+    stripped = poly.strip(join=True, max_length=1_000_000)
+    cells = np.asarray(stripped.lines)
+    pts = np.asarray(stripped.points)
+    out = []
+    i = 0
+    while i < len(cells):  # one step per polyline, not per point
+        n = int(cells[i])
+        out.append(pts[cells[i + 1:i + 1 + n]])
+        i += n + 1
+    return out
+
+
+def _snap(points, tris, edges, c_points, c_normals, feature):
+    """Move the vertices of feature edges onto the intersection of the face planes.
+
+    Each such vertex takes the tangent planes of all triangles around it: two
+    faces put it on their edge, three (near a corner) on the corner.
+    """
+    on_edge = np.zeros(len(points), dtype=bool)
+    on_edge[edges[feature].ravel()] = True
+    vert = tris.ravel()
+    tri = np.repeat(np.arange(len(tris)), 3)
+    keep = on_edge[vert]
+    vert, tri = vert[keep], tri[keep]
+    n = c_normals[tri]
+    d = np.einsum("ij,ij->i", n, c_points[tri])
+    moved, slot = np.unique(vert, return_inverse=True)
+    slot = slot.ravel()
+    a = np.zeros((len(moved), 3, 3))
+    b = np.zeros((len(moved), 3))
+    np.add.at(a, slot, n[:, :, None] * n[:, None, :])
+    np.add.at(b, slot, n * d[:, None])
+    w, v = np.linalg.eigh(a)
+    x0 = points[moved]
+    rhs = b - np.einsum("ijk,ik->ij", a, x0)
+    # Truncated pseudo-inverse: directions without a plane (along an edge) keep the vertex.
+    keep = w > 0.05 * w[:, -1:]
+    inv_w = np.where(keep, 1.0 / np.where(keep, w, 1.0), 0.0)
+    step = np.einsum("ijk,ik->ij", v, inv_w * np.einsum("ikj,ik->ij", v, rhs))
+    out = points.copy()
+    out[moved] = x0 + step
+    return out
+
+
+def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> SurfaceEdges:
+    """Sharp edges of `mesh`, exact when `solid` (the meshed CSG tree) is given.
+
+    Parameters
+    ----------
+    mesh : pyvista.PolyData
+        A closed triangle mesh (`spatial.mesh`).
+    solid : implicit.Solid, optional
+        The solid the mesh came from; without it the mesh normals are used
+        (edges then come out as the chamfer's double lines).
+    feature_angle : float
+        Degrees between face normals for an edge to be drawn.
+
+    Returns
+    -------
+    SurfaceEdges
+    """
+    if not 0 < feature_angle < 180:
+        raise ValueError(f"feature_angle: expected degrees between 0 and 180, got {feature_angle!r}")
+    points = np.asarray(mesh.points, dtype=float)
+    tris = _triangles(mesh)
+    h = float(np.asarray(mesh.field_data["voxel_size"]).ravel()[0]) if "voxel_size" in mesh.field_data else 0.0
+    if h <= 0 and len(tris):
+        h = float(np.median(np.linalg.norm(points[tris[:, 1]] - points[tris[:, 0]], axis=1)))
+    if len(tris) == 0:
+        return SurfaceEdges([], points, tris, np.zeros((0, 3, 3)), np.zeros(0, bool), h)
+    corners = points[tris]
+    centroids = corners.mean(axis=1)
+    if solid is not None:
+        leaf_list = leaves(solid)
+        label = nearest_leaf(leaf_list, centroids)
+        sign = np.where([leaf.negative for leaf in leaf_list], -1.0, 1.0)[label]
+        f, g = leaf_gradients(leaf_list, label, centroids, 0.05 * h)
+        c_normals = g * sign[:, None]
+        c_points = centroids - f[:, None] * g
+        _, gv = leaf_gradients(leaf_list, np.repeat(label, 3), corners.reshape(-1, 3), 0.05 * h)
+        corner_normals = gv.reshape(-1, 3, 3) * sign[:, None, None]
+    else:
+        nrm = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        c_normals = nrm / np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-300)
+        c_points = centroids
+        corner_normals = np.repeat(c_normals[:, None, :], 3, axis=1)
+    edges, pairs = _edge_pairs(tris)
+    inner = pairs[:, 1] >= 0
+    cos = np.full(len(edges), -1.0)
+    cos[inner] = np.einsum("ij,ij->i", c_normals[pairs[inner, 0]], c_normals[pairs[inner, 1]])
+    feature = cos < np.cos(np.radians(feature_angle))
+    snapped = _snap(points, tris, edges, c_points, c_normals, feature) \
+        if solid is not None and feature.any() else points
+    polylines = join_corners(strip_segments(snapped, edges[feature]), h)
+    spread = np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 1])
+    spread = np.minimum(spread, np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 2]))
+    # Chamfer triangles across a sharp edge have corners on two faces: not a curved face.
+    curved = (spread < np.cos(_FLAT)) & (spread > np.cos(np.radians(_CURVED_MAX)))
+    return SurfaceEdges(polylines, points, tris, corner_normals, curved, h)
+
+
+def _length(p):
+    return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+
+
+def join_corners(polylines: list, h: float) -> list:
+    """Close the gaps the mesh leaves at corners: drop links shorter than a
+    few voxels and move the ends that meet there onto the point nearest all
+    their tangent lines (a least-squares intersection)."""
+    if not polylines or h <= 0:
+        return polylines
+    lines = [p for p in polylines if _length(p) > 2.5 * h or np.allclose(p[0], p[-1])]
+    open_ = [i for i, p in enumerate(lines) if len(p) >= 2 and not np.allclose(p[0], p[-1])]
+    if len(open_) < 1:
+        return lines
+    ends, dirs, where = [], [], []
+    for i in open_:  # one step per polyline
+        p = lines[i]
+        for k, (tip, back) in enumerate(((p[0], p[min(3, len(p) - 1)]), (p[-1], p[max(-4, -len(p))]))):
+            d = tip - back
+            ends.append(tip)
+            dirs.append(d / max(np.linalg.norm(d), 1e-300))
+            where.append((i, k))
+    ends, dirs = np.array(ends), np.array(dirs)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(ends).query_pairs(2.5 * h, output_type="ndarray")
+    if len(pairs) == 0:
+        return lines
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(ends), len(ends)))
+    _, comp = connected_components(graph, directed=False)
+    proj = np.eye(3)[None] - dirs[:, :, None] * dirs[:, None, :]
+    a = np.zeros((comp.max() + 1, 3, 3))
+    b = np.zeros((comp.max() + 1, 3))
+    np.add.at(a, comp, proj)
+    np.add.at(b, comp, np.einsum("ijk,ik->ij", proj, ends))
+    count = np.bincount(comp)
+    mean = np.zeros((len(count), 3))
+    np.add.at(mean, comp, ends)
+    mean /= count[:, None]
+    w, v = np.linalg.eigh(a)
+    rhs = b - np.einsum("ijk,ik->ij", a, mean)
+    keep = w > 0.2 * np.maximum(w[:, -1:], 1e-300)
+    inv_w = np.where(keep, 1.0 / np.where(keep, w, 1.0), 0.0)
+    corner = mean + np.einsum("ijk,ik->ij", v, inv_w * np.einsum("ikj,ik->ij", v, rhs))
+    lines = [p.copy() for p in lines]
+    for j, (i, k) in enumerate(where):  # one step per polyline end
+        c = corner[comp[j]]
+        if count[comp[j]] < 2 or np.linalg.norm(c - ends[j]) > 3.0 * h:
+            continue
+        lines[i][0 if k == 0 else -1] = c
+    return lines
+
+
+def silhouettes(edges: SurfaceEdges, direction) -> list[np.ndarray]:
+    """Contour lines of the curved faces seen along `direction` (world polylines).
+
+    Marching triangles on ``s = normal . direction`` at the triangle corners:
+    each curved triangle whose corners change sign holds one segment.
+    """
+    d = np.asarray(direction, dtype=float)
+    d = d / np.linalg.norm(d)
+    rows = np.flatnonzero(edges.curved)
+    if rows.size == 0:
+        return []
+    s = edges.corner_normals[rows] @ d
+    s = np.where(s == 0.0, 1e-12, s)
+    pos = s > 0
+    mixed = pos.any(axis=1) & ~pos.all(axis=1)
+    rows, s = rows[mixed], s[mixed]
+    if rows.size == 0:
+        return []
+    tri = edges.triangles[rows]
+    # The corner alone on its side of zero, and the two others.
+    odd = np.where((s > 0).sum(axis=1) == 1, np.argmax(s > 0, axis=1), np.argmax(s < 0, axis=1))
+    a = tri[np.arange(len(tri)), odd]
+    b = tri[np.arange(len(tri)), (odd + 1) % 3]
+    c = tri[np.arange(len(tri)), (odd + 2) % 3]
+    sa = s[np.arange(len(s)), odd]
+    sb = s[np.arange(len(s)), (odd + 1) % 3]
+    sc = s[np.arange(len(s)), (odd + 2) % 3]
+    p = edges.points
+    t1 = (sa / (sa - sb))[:, None]
+    t2 = (sa / (sa - sc))[:, None]
+    q1 = p[a] + t1 * (p[b] - p[a])
+    q2 = p[a] + t2 * (p[c] - p[a])
+    # Crossings on a shared mesh edge coincide: merge them so the segments chain.
+    keys = np.concatenate([np.sort(np.column_stack([a, b]), axis=1), np.sort(np.column_stack([a, c]), axis=1)])
+    pts = np.concatenate([q1, q2])
+    uniq, first, inv = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    inv = inv.ravel()
+    segs = np.column_stack([inv[: len(rows)], inv[len(rows):]])
+    segs = segs[segs[:, 0] != segs[:, 1]]
+    return strip_segments(pts[first], segs)
