@@ -181,21 +181,20 @@ def nearest_leaf(leaf_list: list[Leaf], points: np.ndarray) -> np.ndarray:
 def leaf_gradients(leaf_list: list[Leaf], label: np.ndarray, points: np.ndarray, step: float):
     """Field value and unit gradient of leaf ``label[i]`` at ``points[i]``.
 
-    Central differences of step `step`, evaluated leaf by leaf (one batch
+    Forward differences of step `step`, evaluated leaf by leaf (one batch
     per leaf, never per point).  Returns ``(values (n,), normals (n, 3))``.
     """
     points = np.asarray(points, dtype=float)
     values = np.zeros(len(points))
     normals = np.zeros((len(points), 3))
-    offsets = np.concatenate([np.eye(3), -np.eye(3)]) * step
+    offsets = np.eye(3) * step
     for i in np.unique(label):
         rows = np.flatnonzero(label == i)
         p = points[rows]
         probe = (p[:, None, :] + offsets[None]).reshape(-1, 3)
-        f = leaf_list[i].field(np.concatenate([p, probe])) if len(p) else np.zeros(0)
+        f = leaf_list[i].field(np.concatenate([p, probe]))
         values[rows] = f[:len(p)]
-        v = f[len(p):].reshape(-1, 6)
-        g = (v[:, :3] - v[:, 3:]) / (2 * step)
+        g = (f[len(p):].reshape(-1, 3) - f[:len(p), None]) / step
         norm = np.linalg.norm(g, axis=1, keepdims=True)
         normals[rows] = np.divide(g, norm, out=np.zeros_like(g), where=norm > 0)
     return values, normals

@@ -93,7 +93,9 @@ def _edge_pairs(tris: np.ndarray):
     e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
     owner = np.tile(np.arange(len(tris)), 3)
     e = np.sort(e, axis=1)
-    uniq, inv = np.unique(e, axis=0, return_inverse=True)
+    n = int(tris.max()) + 1
+    keys, inv = np.unique(e[:, 0] * n + e[:, 1], return_inverse=True)
+    uniq = np.column_stack([keys // n, keys % n])
     inv = inv.ravel()
     order = np.argsort(inv, kind="stable")
     counts = np.bincount(inv, minlength=len(uniq))
@@ -190,8 +192,11 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
         f, g = leaf_gradients(leaf_list, label, centroids, 0.05 * h)
         c_normals = g * sign[:, None]
         c_points = centroids - f[:, None] * g
-        _, gv = leaf_gradients(leaf_list, np.repeat(label, 3), corners.reshape(-1, 3), 0.05 * h)
-        corner_normals = gv.reshape(-1, 3, 3) * sign[:, None, None]
+        # Corner normals once per (vertex, leaf) pair: most vertices have one leaf around them.
+        pair = tris.ravel() * len(leaf_list) + np.repeat(label, 3)
+        keys, inv = np.unique(pair, return_inverse=True)
+        _, gv = leaf_gradients(leaf_list, keys % len(leaf_list), points[keys // len(leaf_list)], 0.05 * h)
+        corner_normals = gv[inv.ravel()].reshape(-1, 3, 3) * sign[:, None, None]
     else:
         nrm = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         c_normals = nrm / np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-300)

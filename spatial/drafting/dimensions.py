@@ -1,0 +1,168 @@
+"""Dimensions: linear sizes between extension lines and leader notes
+(hole callouts, radii), placed around a view without overlaps (ISO 129-1).
+
+A dimension is first stated in view coordinates (model units); `place`
+puts it on the sheet in the first free lane on its side of the view: a
+lane is free when the dimension's box (line, arrows, text) meets no box
+placed before and no other view.  Shorter dimensions take the inner lanes,
+so dimensions from a datum stack outwards and the overall size comes last.
+
+Examples
+--------
+>>> from spatial.drafting.model import Group
+>>> g = Group("view-front", "view")
+>>> placed = Placer([])
+>>> placed.place(g, Linear((0, 0), (40, 0), "h", "below", 40.0), lambda uv: (10 + uv[0], 100 - uv[1]),
+...              (10, 90, 50, 100))
+>>> g.items[0].data["value"]
+'40'
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import Group, text_width
+
+__all__ = ["Linear", "Note", "Placer", "format_value", "ARROW", "TEXT_SIZE"]
+
+#: Arrowhead length and half-width (mm): closed, filled, 30 degrees included.
+ARROW = (3.0, 0.8)
+#: Dimension text height (mm).
+TEXT_SIZE = 3.5
+#: First lane's distance from the view and the distance between lanes (mm).
+FIRST_LANE, LANE = 9.0, 7.0
+#: Gap between a view and its extension lines, and their overshoot (mm).
+GAP, OVERSHOOT = 1.5, 2.0
+
+
+def format_value(value: float) -> str:
+    """Millimetres as drawn: at most two decimals, no trailing zeros."""
+    text = f"{value:.2f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+@dataclass
+class Linear:
+    """A size between two points of a view along ``h`` (u) or ``v``, drawn on `side`."""
+
+    a: tuple
+    b: tuple
+    orient: str
+    side: str
+    value: float
+    prefix: str = ""
+    kind: str = "linear"
+
+
+@dataclass
+class Note:
+    """A leader from `anchor` (a point on a circle or arc) to a text such as ``4x ⌀8``."""
+
+    anchor: tuple
+    text: str
+    value: float
+    kind: str = "diameter"
+    count: int = 1
+    centre: tuple | None = None
+
+
+def _overlaps(a, b, pad=0.8) -> bool:
+    return not (a[2] + pad <= b[0] or b[2] + pad <= a[0] or a[3] + pad <= b[1] or b[3] + pad <= a[1])
+
+
+def _arrow(group: Group, tip, towards):
+    tip = np.asarray(tip, dtype=float)
+    d = np.asarray(towards, dtype=float) - tip
+    d /= max(np.linalg.norm(d), 1e-12)
+    n = np.array([-d[1], d[0]])
+    base = tip + ARROW[0] * d
+    group.polygon([tip, base + ARROW[1] * n, base - ARROW[1] * n], "dimension")
+
+
+class Placer:
+    """Places dimensions lane by lane; remembers every box placed (`boxes`)."""
+
+    def __init__(self, obstacles):
+        self.boxes = [tuple(b) for b in obstacles]
+
+    def _free(self, box, own_view=None) -> bool:
+        return not any(_overlaps(box, b) for b in self.boxes if b is not own_view)
+
+    def place(self, parent: Group, dim, to_sheet, view_box, *, max_lanes: int = 12):
+        """Draw `dim` into a new group of `parent`; returns that group."""
+        if isinstance(dim, Note):
+            return self._note(parent, dim, to_sheet, view_box, max_lanes)
+        return self._linear(parent, dim, to_sheet, view_box, max_lanes)
+
+    # -- linear ---------------------------------------------------------------
+    def _linear(self, parent, dim: Linear, to_sheet, view_box, max_lanes):
+        a, b = np.asarray(to_sheet(dim.a), float), np.asarray(to_sheet(dim.b), float)
+        text = dim.prefix + format_value(dim.value)
+        horizontal = dim.orient == "h"
+        lo_, hi_ = (min(a[0], b[0]), max(a[0], b[0])) if horizontal else (min(a[1], b[1]), max(a[1], b[1]))
+        span = hi_ - lo_
+        tw = text_width(text, TEXT_SIZE)
+        inside = span >= 2 * ARROW[0] + 1.0
+        text_inside = span >= tw + 2 * ARROW[0] + 1.0
+        sign = {"below": 1.0, "right": 1.0, "above": -1.0, "left": -1.0}[dim.side]
+        edge = {"below": view_box[3], "above": view_box[1], "right": view_box[2], "left": view_box[0]}[dim.side]
+        for lane in range(max_lanes):
+            at = edge + sign * (FIRST_LANE + lane * LANE)
+            line_lo, line_hi = (lo_, hi_) if inside else (lo_ - ARROW[0] - 2, hi_ + ARROW[0] + 2)
+            # A text that does not fit between the arrows goes beyond the upper end.
+            t_along = 0.5 * (lo_ + hi_) if text_inside else hi_ + ARROW[0] + 3 + tw / 2
+            t_lo, t_hi = t_along - tw / 2, t_along + tw / 2
+            across_lo, across_hi = at - TEXT_SIZE - 1.2, at + 1.0
+            if horizontal:
+                box = (min(line_lo, t_lo), across_lo, max(line_hi, t_hi), across_hi)
+            else:
+                box = (across_lo, min(line_lo, t_lo), across_hi, max(line_hi, t_hi))
+            if self._free(box):
+                break
+        self.boxes.append(box)
+        g = parent.group(None, "dimension", kind=dim.kind, value=format_value(dim.value), text=text)
+        for p in (a, b):
+            if horizontal:
+                g.line([(p[0], edge + sign * GAP), (p[0], at + sign * OVERSHOOT)], "dimension")
+            else:
+                g.line([(edge + sign * GAP, p[1]), (at + sign * OVERSHOOT, p[1])], "dimension")
+
+        def pt(along, across):
+            return (along, across) if horizontal else (across, along)
+
+        g.line([pt(line_lo, at), pt(line_hi, at)], "dimension")
+        if inside:
+            _arrow(g, pt(lo_, at), pt(hi_, at))
+            _arrow(g, pt(hi_, at), pt(lo_, at))
+        else:
+            _arrow(g, pt(lo_, at), pt(lo_ - 1, at))
+            _arrow(g, pt(hi_, at), pt(hi_ + 1, at))
+        if horizontal:
+            g.text(t_along, at - 1.0, text, size=TEXT_SIZE, cls="dimension-text")
+        else:
+            # Vertical dimensions read from the right-hand side (ISO 129-1, method 1).
+            g.text(at - 1.0, t_along, text, size=TEXT_SIZE, rotate=-90.0, cls="dimension-text")
+        return g
+
+    # -- notes ----------------------------------------------------------------
+    def _note(self, parent, dim: Note, to_sheet, view_box, max_lanes):
+        p = np.asarray(to_sheet(dim.anchor), float)
+        tw = text_width(dim.text, TEXT_SIZE)
+        for lane in range(max_lanes):
+            knee_y = view_box[1] - 5.0 - lane * LANE
+            rise = p[1] - knee_y
+            knee = np.array([p[0] + rise, knee_y])
+            end = knee + (3.0, 0.0)
+            box = (knee[0] - 0.5, knee_y - TEXT_SIZE - 1.0, end[0] + 1.0 + tw, knee_y + 1.5)
+            if self._free(box):
+                break
+        self.boxes.append(box)
+        g = parent.group(None, "dimension", kind=dim.kind, value=format_value(dim.value), text=dim.text,
+                         count=dim.count)
+        g.line([p, knee, end], "dimension")
+        _arrow(g, p, knee)
+        g.text(end[0] + 1.0, knee_y + 1.2, dim.text, size=TEXT_SIZE, anchor="start", cls="dimension-text")
+        return g

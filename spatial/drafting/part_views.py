@@ -1,0 +1,174 @@
+"""The lines of one view of a part: visible and hidden edges and silhouettes,
+centre lines of holes and axes of revolution, and the view's extent.
+
+Everything here is in view coordinates of model units (``u`` right, ``v``
+up); the sheet's scale and position come later.
+
+Examples
+--------
+>>> import spatial
+>>> from implicit import box, cylinder
+>>> part = box((40, 20, 10)) - cylinder(4, 30)
+>>> m = part_mesh(part, resolution=48)
+>>> top = view_lines(part, m, surface_edges(m, part), "top")
+>>> [round(float(x), 3) for x in top.extent]
+[-20.0, -10.0, 20.0, 10.0]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .csg_features import AxialFeature, axial_features
+from .edges import SurfaceEdges, silhouettes, surface_edges
+from .views import view_frame
+from .visibility import DepthBuffer, classify_polylines
+
+__all__ = ["ViewLines", "view_lines", "part_mesh", "present_features", "exact_bounds", "surface_edges"]
+
+#: Odd fractions of a voxel that shift the lattice off the round numbers faces sit on.
+_SHIFT = (0.371, 0.417, 0.293)
+
+
+@dataclass
+class ViewLines:
+    """One view of a part in view coordinates.
+
+    Attributes
+    ----------
+    name : str
+    frame : (3, 3) float
+    visible, hidden : list of (k, 2) float
+    axes : list of ((2,), (2,))
+        Centre lines of axes lying in the view plane (end points).
+    centres : list of ((2,), float)
+        Centres and radii of circles seen end-on (they get centre crosses).
+    extent : (4,) float
+        ``umin, vmin, umax, vmax`` of the part in this view.
+    features : list of AxialFeature
+        The holes and bosses present in the part.
+    """
+
+    name: str
+    frame: np.ndarray
+    visible: list
+    hidden: list
+    axes: list = field(default_factory=list)
+    centres: list = field(default_factory=list)
+    extent: np.ndarray = None
+    features: list = field(default_factory=list)
+
+
+def part_mesh(solid, *, resolution: int = 160):
+    """A mesh for drawing: the lattice shifted off round numbers, where part faces tend to lie
+    (a face on lattice nodes leaves ragged chamfers at its corners)."""
+    from ..meshing import mesh
+
+    lo, hi = (np.asarray(b, dtype=float) for b in solid.bounds)
+    if not (np.isfinite(lo).all() and np.isfinite(hi).all()):
+        raise ValueError("solid: expected a bounded solid to draw")
+    h = float((hi - lo).max()) / resolution
+    pad = 2.0 * h
+    shift = np.asarray(_SHIFT) * h
+    return mesh(solid, voxel_size=h, bounds=(lo - pad - shift, hi + pad + shift), progress=False)
+
+
+def exact_bounds(solid, mesh) -> tuple[np.ndarray, np.ndarray]:
+    """The tree's bounds where the mesh confirms them (within two voxels), else the mesh's."""
+    h = float(np.asarray(mesh.field_data["voxel_size"]).ravel()[0])
+    pts = np.asarray(mesh.points)
+    mlo, mhi = pts.min(axis=0), pts.max(axis=0)
+    tlo, thi = (np.asarray(b, dtype=float) for b in solid.bounds)
+    lo = np.where(np.abs(tlo - mlo) <= 2 * h, tlo, mlo)
+    hi = np.where(np.abs(thi - mhi) <= 2 * h, thi, mhi)
+    return lo, hi
+
+
+def present_features(solid, h: float) -> list[AxialFeature]:
+    """The axial features whose surface is really part of the boundary of `solid`."""
+    out = []
+    lo, hi = (np.asarray(b, dtype=float) for b in solid.bounds)
+    for f in axial_features(solid):
+        # Sample the feature's wall inside the part's bounds: the feature counts when
+        # a fair share of those points lie on the part's boundary.
+        e = np.linalg.svd(np.eye(3) - np.outer(f.axis, f.axis))[0][:, :2].T
+        s0, s1 = _axial_clip(f, lo, hi)
+        if s1 <= s0:
+            continue
+        theta = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+        t = np.linspace(s0, s1, 7)[1:-1]
+        radius = f.diameter / 2 if f.kind != "torus" else f.diameter / 2 + f.length / 2
+        ring = radius * (np.cos(theta)[:, None] * e[0] + np.sin(theta)[:, None] * e[1])
+        pts = (f.centre + t[:, None, None] * f.axis + ring[None]).reshape(-1, 3)
+        on = np.abs(solid(pts)) < 2.0 * h
+        if on.mean() > 0.2:
+            out.append(f)
+    return out
+
+
+def _axial_clip(f: AxialFeature, lo, hi):
+    """The feature's axial extent cut to the part's bounding box."""
+    corners = np.array(np.meshgrid(*zip(lo, hi), indexing="ij")).reshape(3, -1).T
+    proj = (corners - f.centre) @ f.axis
+    return max(f.start, float(proj.min())), min(f.stop, float(proj.max()))
+
+
+def view_lines(solid, mesh, edges: SurfaceEdges, name: str, *, projection: str = "first",
+               frame=None, hidden: bool = True, features=None, bounds=None) -> ViewLines:
+    """Visible and hidden lines of `solid` in view `name` (or along `frame`).
+
+    Parameters
+    ----------
+    solid : implicit.Solid
+    mesh : pyvista.PolyData
+        Its boundary mesh (`part_mesh`).
+    edges : SurfaceEdges
+        `surface_edges(mesh, solid)`.
+    name : {"front", "top", "side", "iso"}
+    hidden : bool
+        Classify hidden lines too (iso and section views leave them out).
+    """
+    frame = view_frame(name, projection) if frame is None else np.asarray(frame, dtype=float)
+    h = edges.voxel_size
+    pts = np.asarray(mesh.points)
+    buffer = DepthBuffer(pts, edges.triangles, frame, pixel=0.5 * h)
+    lines = list(edges.polylines) + silhouettes(edges, frame[2])
+    visible, hid = classify_polylines(lines, buffer, frame, tolerance=1.5 * h, covered_within=1.0 * h)
+    if bounds is None:
+        bounds = exact_bounds(solid, mesh)
+    lo, hi = bounds
+    corners = np.array(np.meshgrid(*zip(lo, hi), indexing="ij")).reshape(3, -1).T @ frame[:2].T
+    if name == "iso":
+        uv = pts @ frame[:2].T
+        extent = np.concatenate([uv.min(axis=0), uv.max(axis=0)])
+    else:
+        extent = np.concatenate([corners.min(axis=0), corners.max(axis=0)])
+    view = ViewLines(name, frame, visible, hid if hidden else [], extent=extent)
+    feats = present_features(solid, h) if features is None else features
+    view.features = feats
+    if name != "iso":
+        _centre_lines(view, feats, lo, hi)
+    return view
+
+
+def _centre_lines(view: ViewLines, feats, lo, hi):
+    seen_axes, seen_centres = set(), set()
+    d = view.frame[2]
+    for f in feats:
+        along = abs(float(f.axis @ d))
+        c2 = view.frame[:2] @ f.centre
+        if along > 1 - 1e-9:
+            key = tuple(np.round(c2, 6)) + (round(f.diameter, 6),)
+            if key not in seen_centres:
+                seen_centres.add(key)
+                view.centres.append((c2, f.diameter / 2))
+        elif along < 1e-9:
+            s0, s1 = _axial_clip(f, lo, hi)
+            a = view.frame[:2] @ (f.centre + s0 * f.axis)
+            b = view.frame[:2] @ (f.centre + s1 * f.axis)
+            key = tuple(np.round(np.concatenate([np.minimum(a, b), np.maximum(a, b)]), 6))
+            if key not in seen_axes:
+                seen_axes.add(key)
+                view.axes.append((a, b))
