@@ -28,6 +28,10 @@ from .visibility import DepthBuffer, classify_polylines
 
 __all__ = ["ViewLines", "view_lines", "part_mesh", "present_features", "exact_bounds", "surface_edges"]
 
+#: Shortest piece of line drawn, in voxels: shorter ones are what the depth test's tolerance
+#: lets through where a line passes behind an outline.
+MIN_PIECE = 3.0
+
 #: Odd fractions of a voxel that shift the lattice off the round numbers faces sit on.
 _SHIFT = (0.371, 0.417, 0.293)
 
@@ -135,7 +139,8 @@ def view_lines(solid, mesh, edges: SurfaceEdges, name: str, *, projection: str =
     pts = np.asarray(mesh.points)
     buffer = DepthBuffer(pts, edges.triangles, frame, pixel=0.5 * h)
     lines = list(edges.polylines) + silhouettes(edges, frame[2])
-    visible, hid = classify_polylines(lines, buffer, frame, tolerance=1.5 * h, covered_within=1.0 * h)
+    visible, hid = classify_polylines(lines, buffer, frame, tolerance=1.5 * h, covered_within=1.0 * h,
+                                      min_length=MIN_PIECE * h)
     if bounds is None:
         bounds = exact_bounds(solid, mesh)
     lo, hi = bounds

@@ -109,13 +109,16 @@ def _runs(flags: np.ndarray):
     return starts, stops, flags[starts]
 
 
-def classify_polylines(polylines, buffer: DepthBuffer, frame, tolerance: float, *, covered_within: float = 0.0):
+def classify_polylines(polylines, buffer: DepthBuffer, frame, tolerance: float, *, covered_within: float = 0.0,
+                       min_length: float = 0.0):
     """Split 3D polylines into visible and hidden 2D polylines of view coordinates.
 
     Every segment is cut into pieces no longer than a pixel; each piece is
     judged at its middle, and isolated flickers (shorter than 3 pieces) are
     smoothed away.  Hidden pieces lying within `covered_within` of a visible
-    line are dropped (a hidden edge behind a visible one is not drawn).
+    line are dropped (a hidden edge behind a visible one is not drawn), and
+    so are pieces shorter than `min_length` (what is left of a line where it
+    passes behind an outline).
 
     Returns
     -------
@@ -162,7 +165,7 @@ def classify_polylines(polylines, buffer: DepthBuffer, frame, tolerance: float, 
         starts, stops, values = _runs(s)
         for a, b, v in zip(starts, stops, values):
             piece = d[a:b + 1, :2]
-            if len(piece) < 2:
+            if len(piece) < 2 or np.linalg.norm(np.diff(piece, axis=0), axis=1).sum() < min_length:
                 continue
             (visible if v == 0 else hidden if v == 1 else []).append(piece)
     return visible, hidden
