@@ -31,3 +31,4 @@ from .fea import surface_for_fea, surface_quality, tet_mesh, TetMesh, TetQuality
 from .convert import (  # noqa: F401
     fit_section_curve, loft_sections, fit_star_surface, surface_to_mesh, curve_to_polydata, isoparametric_polydata,
 )
+from .drafting import part_drawing, assembly_drawing, write_drawing  # noqa: F401

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 
 PYTHON=${PYTHON:-python3}
 VENV=.venv
-DEB_PACKAGES=(python3-openvdb libegl1 libgl1-mesa-dri)
+DEB_PACKAGES=(python3-openvdb libegl1 libgl1-mesa-dri libcairo2)
 
 missing=()
 for pkg in "${DEB_PACKAGES[@]}"; do

@@ -27,6 +27,7 @@ COMMAND_MODULES = (
     "interfere",
     "fea",
     "render",
+    "draw",
 )
 
 

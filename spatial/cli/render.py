@@ -21,7 +21,13 @@ def add_arguments(parser):
     parser.add_argument("-o", "--output", required=True, help="picture to write (.png)")
     parser.add_argument("--style", choices=STYLES, default="shaded", help="drawing style (default: shaded)")
     parser.add_argument("--view", choices=sorted(VIEWS), default="iso", help="camera direction (default: iso)")
-    parser.add_argument("--views", action="store_true", help="a drawing sheet: front, top, right and iso views")
+    parser.add_argument("--views", action="store_true",
+                        help="four pictures: front, top and side views placed by --projection, and iso "
+                             "(for a dimensioned drawing see `implicad draw`)")
+    parser.add_argument("--projection", choices=("first", "third"), default="first",
+                        help="placement of --views: first angle (ISO, default) or third angle (ASME)")
+    parser.add_argument("--cells", action="store_true",
+                        help="draw the octree cells coloured by class (FULL, BOUNDARY) instead of the surface")
     parser.add_argument("--resolution", type=int, default=96, help="cells across the longest side for meshing (default: 96)")
     parser.add_argument("--explode", type=float, default=None, metavar="F",
                         help="for assemblies: pull parts apart by F times the assembly radius")
@@ -48,15 +54,26 @@ def run(args) -> int:
 
     started = time.perf_counter()
     parts = _load_parts(args.model, load_model, load_assembly)
+    if args.cells:
+        from implicit import union
+
+        from ..cells import Octree
+        from ..drafting.render import render_cells
+
+        solid = next(iter(parts.values())) if len(parts) == 1 else union(*parts.values())
+        tree = Octree.from_solid(solid, resolution=args.resolution, progress=False)
+        render_cells(tree, args.output, window_size=args.size)
+        print(f"{args.output}: {len(tree)} octree leaves, {time.perf_counter() - started:.2f} s")
+        return 0
     meshes = {name: mesh(solid, resolution=args.resolution) for name, solid in parts.items()}
     if args.explode is not None and len(meshes) > 1:
         exploded_view(meshes, args.output, factor=args.explode, style=args.style, window_size=args.size)
     elif args.views:
         render_views(meshes if len(meshes) > 1 else next(iter(meshes.values())), args.output,
-                     style=args.style, window_size=args.size)
+                     style=args.style, window_size=args.size, projection=args.projection, solid=parts)
     else:
         render(meshes if len(meshes) > 1 else next(iter(meshes.values())), args.output,
-               style=args.style, view=args.view, window_size=args.size)
+               style=args.style, view=args.view, window_size=args.size, solid=parts)
     triangles = sum(m.n_cells for m in meshes.values())
     print(f"{args.output}: {len(meshes)} part(s), {triangles} triangles, {time.perf_counter() - started:.2f} s")
     return 0

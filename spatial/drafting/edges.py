@@ -45,6 +45,10 @@ __all__ = ["FEATURE_ANGLE", "SurfaceEdges", "surface_edges", "silhouettes", "str
 #: Smallest angle (degrees) between the faces of a drawn edge; tangent edges are not drawn.
 FEATURE_ANGLE = 20.0
 
+#: Step of the finite differences for exact normals, in voxels: small, so that a point near
+#: the bisector of a box edge takes the normal of one face and not a mixture of both.
+GRADIENT_STEP = 1e-5
+
 #: Vertex normals differing by less than this (radians) make a triangle flat: it has no silhouette.
 _FLAT = 1e-4
 
@@ -189,19 +193,22 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
         leaf_list = leaves(solid)
         label = nearest_leaf(leaf_list, centroids)
         sign = np.where([leaf.negative for leaf in leaf_list], -1.0, 1.0)[label]
-        f, g = leaf_gradients(leaf_list, label, centroids, 0.05 * h)
+        f, g = leaf_gradients(leaf_list, label, centroids, GRADIENT_STEP * h)
         c_normals = g * sign[:, None]
         c_points = centroids - f[:, None] * g
         # Corner normals once per (vertex, leaf) pair: most vertices have one leaf around them.
         pair = tris.ravel() * len(leaf_list) + np.repeat(label, 3)
         keys, inv = np.unique(pair, return_inverse=True)
-        _, gv = leaf_gradients(leaf_list, keys % len(leaf_list), points[keys // len(leaf_list)], 0.05 * h)
+        fv, gv = leaf_gradients(leaf_list, keys % len(leaf_list), points[keys // len(leaf_list)], GRADIENT_STEP * h)
         corner_normals = gv[inv.ravel()].reshape(-1, 3, 3) * sign[:, None, None]
+        # A triangle whose corners are not all on its leaf's surface straddles two leaves.
+        on_leaf = (np.abs(fv[inv.ravel()]) < 0.02 * h).reshape(-1, 3).all(axis=1)
     else:
         nrm = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         c_normals = nrm / np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-300)
         c_points = centroids
         corner_normals = np.repeat(c_normals[:, None, :], 3, axis=1)
+        on_leaf = np.ones(len(tris), dtype=bool)
     edges, pairs = _edge_pairs(tris)
     inner = pairs[:, 1] >= 0
     cos = np.full(len(edges), -1.0)
@@ -213,7 +220,7 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
     spread = np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 1])
     spread = np.minimum(spread, np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 2]))
     # Chamfer triangles across a sharp edge have corners on two faces: not a curved face.
-    curved = (spread < np.cos(_FLAT)) & (spread > np.cos(np.radians(_CURVED_MAX)))
+    curved = (spread < np.cos(_FLAT)) & (spread > np.cos(np.radians(_CURVED_MAX))) & on_leaf
     return SurfaceEdges(polylines, points, tris, corner_normals, curved, h)
 
 
