@@ -180,9 +180,13 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
     """
     if not 0 < feature_angle < 180:
         raise ValueError(f"feature_angle: expected degrees between 0 and 180, got {feature_angle!r}")
+    marched = "voxel_size" in mesh.field_data
+    if not marched:
+        # A mesh from elsewhere may repeat its vertices face by face: merge them first.
+        mesh = mesh.clean()
     points = np.asarray(mesh.points, dtype=float)
     tris = _triangles(mesh)
-    h = float(np.asarray(mesh.field_data["voxel_size"]).ravel()[0]) if "voxel_size" in mesh.field_data else 0.0
+    h = float(np.asarray(mesh.field_data["voxel_size"]).ravel()[0]) if marched else 0.0
     if h <= 0 and len(tris):
         h = float(np.median(np.linalg.norm(points[tris[:, 1]] - points[tris[:, 0]], axis=1)))
     if len(tris) == 0:
@@ -216,7 +220,10 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
     feature = cos < np.cos(np.radians(feature_angle))
     snapped = _snap(points, tris, edges, c_points, c_normals, feature) \
         if solid is not None and feature.any() else points
-    polylines = join_corners(strip_segments(snapped, edges[feature]), h)
+    polylines = strip_segments(snapped, edges[feature])
+    if marched:
+        # Only marching cubes leaves its voxel-sized links at corners.
+        polylines = join_corners(polylines, h)
     spread = np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 1])
     spread = np.minimum(spread, np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 2]))
     # Chamfer triangles across a sharp edge have corners on two faces: not a curved face.

@@ -96,18 +96,19 @@ def present_features(solid, h: float) -> list[AxialFeature]:
     lo, hi = (np.asarray(b, dtype=float) for b in solid.bounds)
     for f in axial_features(solid):
         # Sample the feature's wall inside the part's bounds: the feature counts when
-        # a fair share of those points lie on the part's boundary.
+        # two rings' worth of those points lie on the part's boundary.
         e = np.linalg.svd(np.eye(3) - np.outer(f.axis, f.axis))[0][:, :2].T
         s0, s1 = _axial_clip(f, lo, hi)
         if s1 <= s0:
             continue
         theta = np.linspace(0, 2 * np.pi, 24, endpoint=False)
-        t = np.linspace(s0, s1, 7)[1:-1]
+        t = np.linspace(s0, s1, 34)[1:-1]
         radius = f.diameter / 2 if f.kind != "torus" else f.diameter / 2 + f.length / 2
         ring = radius * (np.cos(theta)[:, None] * e[0] + np.sin(theta)[:, None] * e[1])
         pts = (f.centre + t[:, None, None] * f.axis + ring[None]).reshape(-1, 3)
         on = np.abs(solid(pts)) < 2.0 * h
-        if on.mean() > 0.2:
+        # A bolt hole through a flange is wall over a short stretch of its axis only.
+        if on.sum() >= 2 * len(theta):
             out.append(f)
     return out
 

@@ -123,7 +123,7 @@ def _add_part(plotter, mesh, style, color, feature_angle, solid=None):
     elif style == "hidden-line":
         # Surfaces drawn in the background colour hide the lines behind them.
         actor = plotter.add_mesh(mesh, color="white", lighting=False,
-                                 silhouette={"color": "black", "line_width": 2.0})
+                                 silhouette={"color": "black", "line_width": 1.5})
         # Push the white faces back a little so the edges lying on them are not lost to
         # depth fighting.
         actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
