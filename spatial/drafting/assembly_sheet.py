@@ -32,22 +32,30 @@ __all__ = ["assembly_drawing", "axis_offsets"]
 BALLOON, BALLOON_REACH = 4.5, 14.0
 
 
-def axis_offsets(centroids, axis, spread: float) -> np.ndarray:
-    """Offsets (n, 3) along `axis`: the parts keep their order along it (by
-    centroid) and move apart by `spread` from one to the next, the middle
-    one staying.
+def axis_offsets(lows, highs, axis, gap: float) -> np.ndarray:
+    """Offsets (n, 3) along `axis` that stack the parts apart: taken in the order
+    of their tops along the axis, each part moves up until it starts `gap`
+    above the one before; the lowest part stays.
+
+    Parameters
+    ----------
+    lows, highs : (n,) float
+        Each part's extent along the axis.
 
     Examples
     --------
-    >>> axis_offsets([[0, 0, 0], [0, 0, 5], [0, 0, 1]], (0, 0, 1), 10.0)[:, 2].tolist()
-    [-10.0, 10.0, 0.0]
+    >>> axis_offsets([0, -10, 5], [2, 4, 9], (0, 0, 1), 1.0)[:, 2].tolist()
+    [0.0, 13.0, 9.0]
     """
-    c = np.asarray(centroids, dtype=float).reshape(-1, 3)
+    lows, highs = np.asarray(lows, dtype=float), np.asarray(highs, dtype=float)
     a = np.asarray(axis, dtype=float)
     a = a / np.linalg.norm(a)
-    rank = np.argsort(np.argsort((c - c.mean(axis=0)) @ a, kind="stable"), kind="stable")
-    steps = rank - 0.5 * (len(c) - 1)
-    return (steps * float(spread))[:, None] * a[None]
+    shift = np.zeros(len(lows))
+    top = -np.inf
+    for i in np.argsort(highs, kind="stable"):  # one step per part
+        shift[i] = 0.0 if not np.isfinite(top) else max(0.0, top + gap - lows[i])
+        top = highs[i] + shift[i]
+    return shift[:, None] * a[None]
 
 
 def _parse_axis(axis):
@@ -104,14 +112,19 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
     direction = _parse_axis(axis)
     meshes = {k: part_mesh(s, resolution=resolution) for k, s in parts.items()}
     edges = {k: surface_edges(meshes[k], parts[k]) for k in parts}
-    volumes = {k: float(abs(m.volume)) for k, m in meshes.items()}
+    from ..analysis import mass_properties
+
+    # Masses from the analysis room's integrals (its error is far below the three digits shown).
+    volumes = {k: float(mass_properties(s, resolution=64, units="mm").volume) for k, s in parts.items()}
     rows = parts_list(parts, volumes, material=material, density=density)
     centroids = np.array([np.asarray(meshes[k].points).mean(axis=0) for k in parts])
     if not explode:
         offsets = np.zeros_like(centroids)
     elif direction is not None:
-        allpts = np.concatenate([np.asarray(m.points) for m in meshes.values()])
-        offsets = axis_offsets(centroids, direction, factor * float(np.ptp(allpts @ direction)))
+        along = [np.asarray(m.points) @ direction for m in meshes.values()]
+        span = float(np.ptp(np.concatenate(along)))
+        offsets = axis_offsets([t.min() for t in along], [t.max() for t in along], direction,
+                               0.5 * factor * span)
     else:
         offsets = explode_offsets(centroids, factor)
     frame = view_frame("iso")
@@ -127,18 +140,25 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
     visible, _ = classify_polylines(lines, buffer, frame, tolerance=1.5 * h, min_length=MIN_PIECE * h)
     uv = pts @ frame[:2].T
     extent = (*uv.min(axis=0), *uv.max(axis=0))
-    # The view takes the area left of the parts list and balloons' reach around it.
+    # The view goes above the parts list or beside it, whichever allows the larger scale;
+    # balloons need their reach all round.
     x0, y0, x1, y1 = drawing_area(sheet)
     table_h = ROW * (len(rows) + 1)
     room = 2 * (BALLOON_REACH + 2 * BALLOON)
-    aw, ah = x1 - x0 - room, y1 - y0 - room - max(0.0, table_h - 0.0)
-    s = choose_scale(lambda sc: sc * (extent[2] - extent[0]) <= aw and sc * (extent[3] - extent[1]) <= ah)
+    ew, eh = extent[2] - extent[0], extent[3] - extent[1]
+    areas = [(x0, y0, x1, y1 - table_h), (x0, y0, x1 - TITLE_BLOCK[0], y1 + TITLE_BLOCK[1])]
+
+    def scale_in(a):
+        return choose_scale(lambda sc: sc * ew <= a[2] - a[0] - room and sc * eh <= a[3] - a[1] - room)
+
+    area = max(areas, key=scale_in)
+    s = scale_in(area)
     meta = {"title": name, "projection": projection, "material": material, "scale": scale_text(s)}
     if date:
         meta["date"] = date
     drawing, _ = new_sheet(sheet, meta)
-    vw, vh = s * (extent[2] - extent[0]), s * (extent[3] - extent[1])
-    place = ViewPlace(x0 + 0.5 * (x1 - x0 - vw), y0 + BALLOON_REACH + 2 * BALLOON + 0.5 * (ah - vh), s, extent)
+    vw, vh = s * ew, s * eh
+    place = ViewPlace(0.5 * (area[0] + area[2] - vw), 0.5 * (area[1] + area[3] - vh), s, extent)
     g = drawing.group("view-exploded" if explode else "view-assembly", "view", name="iso", scale=scale_text(s))
     from .part_sheet import _simplify  # the same paper tolerance as part sheets
 

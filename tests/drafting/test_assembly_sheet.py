@@ -69,10 +69,15 @@ def test_identical_parts_are_counted_once():
     assert [(r.name, r.count) for r in rows] == [("a", 2), ("c", 1)]
 
 
-def test_axis_offsets_keep_the_order_and_spread_evenly():
-    off = axis_offsets([[0, 0, 0], [0, 0, 5], [0, 0, 1], [3, 0, 2]], (0, 0, 2), 4.0)
+def test_axis_offsets_stack_the_parts_apart():
+    lows, highs = np.array([-2.5, -17.5, 15.0]), np.array([2.5, 7.5, 25.0])   # plate, bolt, block
+    off = axis_offsets(lows, highs, (0, 0, 2), 5.0)
     assert np.allclose(off[:, :2], 0)
-    assert off[:, 2].tolist() == [-6.0, 6.0, -2.0, 2.0]
+    assert off[:, 2].tolist() == [0.0, 25.0, 22.5]
+    lo, hi = lows + off[:, 2], highs + off[:, 2]
+    order = np.argsort(hi)
+    # Stacked without overlap, 5 apart.
+    assert np.allclose(lo[order][1:] - hi[order][:-1], 5.0)
 
 
 def test_bad_assembly_input():

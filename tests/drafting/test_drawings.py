@@ -227,3 +227,41 @@ def test_bad_input_fails_before_any_work_or_file(tmp_path):
     with pytest.raises(ValueError, match="output: expected a name ending in .svg, .pdf, .dxf or .png"):
         write_drawing(part_drawing(part, resolution=16), tmp_path / "a.docx")
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("projection, side", [("first", "left"), ("third", "right")])
+def test_the_side_view_is_seen_from_the_left_in_first_angle_and_from_the_right_in_third(projection, side):
+    # A hole at y = +6: seen from the left (-y to the right) it lies left of the middle,
+    # seen from the right (+y to the right) right of it.
+    part = box((40, 20, 10)) - cylinder(2, 30, center=(0, 6, 0))
+    root = ET.fromstring(svg_text(part_drawing(part, projection=projection, resolution=48)))
+    g = view(root, "side")
+    lo, hi = box_of(g)
+    xs = path_points(g, "hidden")[:, 0]
+    middle = 0.5 * (lo[0] + hi[0])
+    assert xs.size
+    assert (xs < middle).all() if side == "left" else (xs > middle).all()
+
+
+def test_radii_of_rounded_boxes_and_spherical_outlines():
+    from implicit import rounded_box, sphere
+
+    rounded = ET.fromstring(svg_text(part_drawing(rounded_box((30, 20, 10), radius=3.0), resolution=48)))
+    notes = [d.get("data-text") for d in dims(rounded, "front") if d.get("data-kind") == "radius"]
+    assert notes == ["R3"]
+    ball = (sphere(10.0) & box(15.0)) - cylinder(3.0, 40)
+    root = ET.fromstring(svg_text(part_drawing(ball, resolution=48)))
+    assert [d.get("data-text") for d in dims(root, "front") if d.get("data-kind") == "radius"] == ["SR10"]
+    assert [d.get("data-text") for d in dims(root, "top") if d.get("data-kind") == "hole"] == ["⌀6"]
+
+
+def test_dimensions_stay_off_the_other_views(first):
+    views = {n: box_of(view(first, n)) for n in ("front", "top", "side", "iso")}
+    for name in ("front", "top", "side"):
+        for d in dims(first, name):
+            text = d.find("s:text", NS)
+            x, y = float(text.get("x")), float(text.get("y"))
+            for other, (lo, hi) in views.items():
+                if other == name:
+                    continue
+                assert not (lo[0] - 1 < x < hi[0] + 1 and lo[1] - 1 < y < hi[1] + 1), (name, other, text.text)
