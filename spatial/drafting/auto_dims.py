@@ -84,9 +84,13 @@ def _radii(frame, extent, solid, h) -> list:
     frame = np.asarray(frame)
     umin, vmin, umax, vmax = extent
     out = []
-    for r in sorted(set(round(x, 6) for x in rounded_radii(solid)))[:1]:
-        corner = np.array([umax - r + r * _C45, vmax - r + r * _C45])
-        out.append(Note(tuple(corner), f"R{format_value(r)}", r, kind="radius"))
+    for centre, half, r in rounded_radii(solid)[:1]:
+        # The arc at the box's upper right corner, half way round.
+        c2, h2 = frame[:2] @ centre, np.abs(frame[:2]) @ half
+        corner = c2 + h2 - r + r * _C45
+        p3 = centre + (corner[0] - c2[0]) * frame[0] + (corner[1] - c2[1]) * frame[1]
+        if abs(float(solid(p3[None])[0])) < 2 * h:
+            out.append(Note(tuple(corner), f"R{format_value(r)}", r, kind="radius"))
     for centre, r in sphere_radii(solid)[:2]:
         c2 = frame[:2] @ centre
         p3 = centre + r * (_C45 * frame[0] + _C45 * frame[1])

@@ -147,14 +147,17 @@ def axial_features(solid) -> list[AxialFeature]:
     return out
 
 
-def rounded_radii(solid) -> list[float]:
-    """Edge radii of rounded boxes in `solid` (world units, similarity transforms only)."""
+def rounded_radii(solid) -> list[tuple[np.ndarray, np.ndarray, float]]:
+    """(centre, half sizes, edge radius) of the material-adding rounded boxes in
+    `solid` (world units; leaves under pure translations and uniform scales only)."""
     out = []
     for leaf in leaves(solid):
-        if leaf.node.kind == "box" and leaf.node.params.get("radius"):
-            sv = np.linalg.svd(leaf.matrix, compute_uv=False)
-            if np.isclose(sv[0], sv[-1], rtol=1e-9):
-                out.append(float(leaf.node.params["radius"] * sv[0]))
+        if leaf.node.kind == "box" and leaf.node.params.get("radius") and not leaf.negative:
+            m = leaf.matrix
+            s = float(abs(np.linalg.det(m))) ** (1 / 3)
+            if np.allclose(m, s * np.eye(3), rtol=1e-9, atol=1e-12):
+                p = leaf.node.params
+                out.append((leaf.to_world(p["center"]), 0.5 * s * np.asarray(p["size"], float), float(p["radius"] * s)))
     return out
 
 
