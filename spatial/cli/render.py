@@ -50,7 +50,7 @@ def run(args) -> int:
 
     from implicit.models import load_assembly, load_model
 
-    from ..meshing.boundary import mesh
+    from ..drafting.part_views import part_mesh
 
     started = time.perf_counter()
     parts = _load_parts(args.model, load_model, load_assembly)
@@ -65,7 +65,8 @@ def run(args) -> int:
         render_cells(tree, args.output, window_size=args.size)
         print(f"{args.output}: {len(tree)} octree leaves, {time.perf_counter() - started:.2f} s")
         return 0
-    meshes = {name: mesh(solid, resolution=args.resolution) for name, solid in parts.items()}
+    # The drawing mesh: its lattice is shifted off the round numbers faces sit on.
+    meshes = {name: part_mesh(solid, resolution=args.resolution) for name, solid in parts.items()}
     if args.explode is not None and len(meshes) > 1:
         exploded_view(meshes, args.output, factor=args.explode, style=args.style, window_size=args.size)
     elif args.views:

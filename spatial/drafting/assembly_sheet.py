@@ -17,8 +17,8 @@ import numpy as np
 
 from .edges import silhouettes, surface_edges
 from .layout import ViewPlace
-from .model import Drawing, Group
-from .part_sheet import PAPER_TOLERANCE, check_options
+from .model import Group
+from .part_sheet import PAPER_TOLERANCE, check_options, simplify_paper
 from .part_views import MIN_PIECE, part_mesh
 from .parts_list import MATERIALS, ROW, draw_parts_list, parts_list
 from .render import explode_offsets
@@ -45,7 +45,7 @@ def axis_offsets(lows, highs, axis, gap: float) -> np.ndarray:
     Examples
     --------
     >>> axis_offsets([0, -10, 5], [2, 4, 9], (0, 0, 1), 1.0)[:, 2].tolist()
-    [0.0, 13.0, 9.0]
+    [0.0, 13.0, 13.0]
     """
     lows, highs = np.asarray(lows, dtype=float), np.asarray(highs, dtype=float)
     a = np.asarray(axis, dtype=float)
@@ -160,11 +160,9 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
     vw, vh = s * ew, s * eh
     place = ViewPlace(0.5 * (area[0] + area[2] - vw), 0.5 * (area[1] + area[3] - vh), s, extent)
     g = drawing.group("view-exploded" if explode else "view-assembly", "view", name="iso", scale=scale_text(s))
-    from .part_sheet import _simplify  # the same paper tolerance as part sheets
-
     sub = g.group(None, "visible")
     for p in visible:
-        q = _simplify(place.to_sheet(p))
+        q = simplify_paper(place.to_sheet(p))
         if len(q) >= 2 and np.linalg.norm(np.diff(q, axis=0), axis=1).sum() > 2 * PAPER_TOLERANCE:
             sub.line(q, "visible")
     right, bottom = drawing.width - 10.0, drawing.height - 10.0 - TITLE_BLOCK[1]

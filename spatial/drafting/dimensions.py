@@ -12,7 +12,7 @@ Examples
 >>> from spatial.drafting.model import Group
 >>> g = Group("view-front", "view")
 >>> placed = Placer([])
->>> placed.place(g, Linear((0, 0), (40, 0), "h", "below", 40.0), lambda uv: (10 + uv[0], 100 - uv[1]),
+>>> _ = placed.place(g, Linear((0, 0), (40, 0), "h", "below", 40.0), lambda uv: (10 + uv[0], 100 - uv[1]),
 ...              (10, 90, 50, 100))
 >>> g.items[0].data["value"]
 '40'
@@ -26,7 +26,7 @@ import numpy as np
 
 from .model import Group, text_width
 
-__all__ = ["Linear", "Note", "Placer", "format_value", "ARROW", "TEXT_SIZE"]
+__all__ = ["Linear", "Note", "Placer", "format_value", "arrowhead", "ARROW", "TEXT_SIZE"]
 
 #: Arrowhead length and half-width (mm): closed, filled, 30 degrees included.
 ARROW = (3.0, 0.8)
@@ -73,7 +73,7 @@ def _overlaps(a, b, pad=0.8) -> bool:
     return not (a[2] + pad <= b[0] or b[2] + pad <= a[0] or a[3] + pad <= b[1] or b[3] + pad <= a[1])
 
 
-def _arrow(group: Group, tip, towards):
+def arrowhead(group: Group, tip, towards):
     tip = np.asarray(tip, dtype=float)
     d = np.asarray(towards, dtype=float) - tip
     d /= max(np.linalg.norm(d), 1e-12)
@@ -135,11 +135,11 @@ class Placer:
 
         g.line([pt(line_lo, at), pt(line_hi, at)], "dimension")
         if inside:
-            _arrow(g, pt(lo_, at), pt(hi_, at))
-            _arrow(g, pt(hi_, at), pt(lo_, at))
+            arrowhead(g, pt(lo_, at), pt(hi_, at))
+            arrowhead(g, pt(hi_, at), pt(lo_, at))
         else:
-            _arrow(g, pt(lo_, at), pt(lo_ - 1, at))
-            _arrow(g, pt(hi_, at), pt(hi_ + 1, at))
+            arrowhead(g, pt(lo_, at), pt(lo_ - 1, at))
+            arrowhead(g, pt(hi_, at), pt(hi_ + 1, at))
         if horizontal:
             g.text(t_along, at - 1.0, text, size=TEXT_SIZE, cls="dimension-text")
         else:
@@ -163,6 +163,6 @@ class Placer:
         g = parent.group(None, "dimension", kind=dim.kind, value=format_value(dim.value), text=dim.text,
                          count=dim.count)
         g.line([p, knee, end], "dimension")
-        _arrow(g, p, knee)
+        arrowhead(g, p, knee)
         g.text(end[0] + 1.0, knee_y + 1.2, dim.text, size=TEXT_SIZE, anchor="start", cls="dimension-text")
         return g

@@ -12,6 +12,10 @@ then moved onto the true edge by a small quadric error fit (the tangent
 planes of the triangles around each vertex, as dual contouring places its
 vertices), so a straight edge comes out straight and a corner sharp.
 
+Faces lying exactly on lattice planes (round sizes at round resolutions)
+leave chamfers of zero width that draw an edge twice: mesh for drawings
+with `spatial.drafting.part_views.part_mesh`, which shifts the lattice.
+
 Silhouettes depend on the view: on the curved triangles (whose exact
 normals vary), the zero set of ``normal . direction`` interpolated between
 vertices (marching triangles) is the contour of the surface seen along
@@ -24,12 +28,12 @@ SIGGRAPH 2002 (vertex placement by a truncated pseudo-inverse).
 
 Examples
 --------
->>> import spatial
 >>> from implicit import box
->>> m = spatial.mesh(box((4, 2, 1)), resolution=24, progress=False)
+>>> from spatial.drafting.part_views import part_mesh
+>>> m = part_mesh(box((4, 2, 1)), resolution=24)
 >>> lines = surface_edges(m, box((4, 2, 1)))
->>> round(sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in lines.polylines), 1)
-28.0
+>>> round(sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in lines.polylines))  # 4 x (4 + 2 + 1)
+28
 """
 
 from __future__ import annotations

@@ -16,16 +16,16 @@ from __future__ import annotations
 import numpy as np
 
 from .auto_dims import view_dimensions
-from .dimensions import FIRST_LANE, LANE, Linear, Note, Placer, TEXT_SIZE, _arrow
+from .dimensions import FIRST_LANE, LANE, Linear, Note, Placer, TEXT_SIZE, arrowhead
 from .layout import place_grid
 from .model import Drawing, Group
 from .part_views import ViewLines, exact_bounds, part_mesh, present_features, view_lines
 from .edges import surface_edges
 from .section_view import hatch_segments, plan_section, section_loops
 from .sheet import SHEETS, TITLE_BLOCK, drawing_area, new_sheet
-from .views import PROJECTIONS, grid, scale_text, view_frame
+from .views import PROJECTIONS, grid, scale_text
 
-__all__ = ["part_drawing", "check_options", "emit_view_lines"]
+__all__ = ["part_drawing", "check_options", "emit_view_lines", "simplify_paper"]
 
 #: Simplification tolerance of drawn polylines on paper (mm).
 PAPER_TOLERANCE = 0.03
@@ -44,7 +44,9 @@ def check_options(projection, sheet, resolution):
         raise ValueError(f"resolution: expected a whole number from 16 to 1024, got {resolution!r}")
 
 
-def _simplify(points: np.ndarray) -> np.ndarray:
+def simplify_paper(points: np.ndarray) -> np.ndarray:
+    """A sheet polyline with the points dropped that stay within `PAPER_TOLERANCE` of it
+    (Douglas-Peucker, scikit-image); also drops the mesh's back-and-forth steps along an edge."""
     from skimage.measure import approximate_polygon
 
     if len(points) <= 2:
@@ -57,7 +59,7 @@ def emit_view_lines(group: Group, view: ViewLines, place, *, centre_lines: bool 
     for cls, lines in (("hidden", view.hidden), ("visible", view.visible)):
         sub = group.group(None, cls)
         for p in lines:
-            q = _simplify(place.to_sheet(p))
+            q = simplify_paper(place.to_sheet(p))
             if len(q) >= 2 and np.linalg.norm(q[-1] - q[0]) + np.linalg.norm(np.diff(q, axis=0), axis=1).sum() > 0.05:
                 sub.line(q, cls)
     if not centre_lines:
@@ -212,7 +214,7 @@ def _cutting_plane(group: Group, plan, view: ViewLines, place):
     for end in (a + 2.0 * d, b - 2.0 * d):
         tip = end + 7.0 * view_dir
         g.line([end, tip], "dimension")
-        _arrow(g, tip, end)
+        arrowhead(g, tip, end)
         label = tip + 3.5 * view_dir + (0, TEXT_SIZE * 0.4)
         g.text(label[0], label[1], "A", size=5.0, cls="view-label", bold=True)
     return g

@@ -8,7 +8,7 @@ Examples
 >>> from implicit import box
 >>> rows = parts_list({"a": box(10), "b": box(10).translate((30, 0, 0))}, {"a": 1000.0, "b": 1000.0},
 ...                   material="steel", density=7850.0)
->>> [(r.item, r.name, r.count, round(r.mass, 4)) for r in rows]
+>>> [(r.item, r.name, r.count, round(r.mass, 6)) for r in rows]
 [(1, 'a', 2, 0.00785)]
 """
 
