@@ -36,6 +36,7 @@ class DepthBuffer:
     ----------
     points : (n, 3) float
     triangles : (t, 3) int
+        A closed, outward-oriented triangle mesh (back faces are culled).
     frame : (3, 3) float
         Rows ``u`` (paper right), ``v`` (paper up), ``d`` (into the paper).
     pixel : float
@@ -60,6 +61,10 @@ class DepthBuffer:
         self.far = maximum_filter(self.depth, size=3, mode="constant", cval=np.inf)
 
     def _rasterize(self, tri):
+        # The nearest surface of a closed outward mesh faces the eye: back faces are skipped.
+        # (The frame (u, v, d) is left-handed, so a front face turns counter-clockwise in (u, v).)
+        e1, e2 = tri[:, 1, :2] - tri[:, 0, :2], tri[:, 2, :2] - tri[:, 0, :2]
+        tri = tri[e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] > 0]
         uv = (tri[:, :, :2] - self.origin) / self.pixel
         z = tri[:, :, 2]
         lo = np.floor(uv.min(axis=1)).astype(np.int64)
