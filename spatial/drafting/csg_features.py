@@ -175,10 +175,15 @@ def sphere_radii(solid) -> list[tuple[np.ndarray, float]]:
 def nearest_leaf(leaf_list: list[Leaf], points: np.ndarray) -> np.ndarray:
     """Index of the leaf whose surface is nearest each point (``|field|`` smallest)."""
     points = np.asarray(points, dtype=float)
-    if not leaf_list:
-        return np.zeros(len(points), dtype=np.int64)
-    values = np.stack([np.abs(leaf.field(points)) for leaf in leaf_list], axis=1)
-    return np.argmin(values, axis=1)
+    best = np.full(len(points), np.inf)
+    label = np.zeros(len(points), dtype=np.int64)
+    # A running minimum, one leaf at a time: memory stays one value per point.
+    for i, leaf in enumerate(leaf_list):
+        value = np.abs(leaf.field(points))
+        closer = value < best
+        best[closer] = value[closer]
+        label[closer] = i
+    return label
 
 
 def leaf_gradients(leaf_list: list[Leaf], label: np.ndarray, points: np.ndarray, step: float):
