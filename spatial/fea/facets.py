@@ -2,7 +2,7 @@
 
 Every primitive leaf of a CSG tree (and each flat or cylindrical facet of a
 sharp box or a cylinder) is a *facet*; each point is attributed to the facet
-that decides the CSG ``min``/``max`` there (`FacetField`).  Facets name the
+that decides the CSG ``min``/``max`` there (`implicit.facets.FacetField`, re-exported here).  Facets name the
 boundary regions of FEA meshes and guide vertices onto the sharp edges and
 corners where facets meet (`solve_on_facets`).  `project_to_surface` takes
 points onto the zero set with Newton steps along the gradient.
@@ -12,148 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from implicit.facets import FacetField, facet_field  # noqa: F401  (re-exported)
 from implicit.solid import Solid
 
 __all__ = ["FacetField", "facet_field", "project_to_surface", "solve_on_facets", "NEWTON_STEPS"]
 
 #: Newton steps used to put a point back on the zero set.
 NEWTON_STEPS = 6
-
-# ---------------------------------------------------------------------------
-# CSG facets: which face of which primitive decides the field at a point
-# ---------------------------------------------------------------------------
-
-def _leaf_facets(node: Solid, p: np.ndarray):
-    """Names and values ``(k, n)`` of a leaf's facets; the leaf is the max of them."""
-    kind = node.kind
-    if kind == "box" and not getattr(node, "_rr", 0.0):
-        q = p - node._c
-        h = node._h
-        vals = np.concatenate([q - h, -q - h], axis=1).T
-        names = ["+x", "+y", "+z", "-x", "-y", "-z"]
-        return names, vals
-    if kind == "cylinder":
-        q = (p - node._c) @ node._frame.T
-        dr = np.hypot(q[:, 0], q[:, 1]) - node._r
-        return ["wall", "top", "bottom"], np.stack([dr, q[:, 2] - node._hh, -q[:, 2] - node._hh])
-    return [""], node._evaluate(p)[None, :]
-
-
-class FacetField:
-    """The facets of a CSG tree: evaluate every facet and the deciding one at once.
-
-    A facet is a primitive leaf, or one face of a sharp box (``+x`` ... ``-z``)
-    or of a cylinder (``wall``, ``top``, ``bottom``).  Facet fields are
-    expressed in world coordinates (transforms and offsets applied); their
-    zero sets are the surfaces the CSG boundary is cut from.  Smooth blends
-    and shells count as one leaf.
-
-    Parameters
-    ----------
-    solid : Solid
-
-    Attributes
-    ----------
-    names : list of str
-        One name per facet, e.g. ``"cylinder_2.wall"`` (kind, leaf number in
-        depth-first order, facet).
-    """
-
-    def __init__(self, solid: Solid):
-        if not isinstance(solid, Solid):
-            raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
-        self.solid = solid
-        self.names: list[str] = []
-        pts = np.zeros((1, 3))
-        self._walk(solid, pts, [], self.names, [0])
-
-    def _walk(self, node, p, vals, names, counter):
-        kind = node.kind
-        if kind in ("union", "intersection", "difference"):
-            results = [self._walk(c, p, vals, names, counter) for c in node.children]
-            values = np.stack([r[0] for r in results])
-            decs = np.stack([r[1] for r in results])
-            if kind == "difference":
-                values[1:] *= -1.0
-            idx = values.argmin(axis=0) if kind == "union" else values.argmax(axis=0)
-            cols = np.arange(values.shape[1])
-            return values[idx, cols], decs[idx, cols]
-        if kind == "complement":
-            v, d = self._walk(node.children[0], p, vals, names, counter)
-            return -v, d
-        if kind == "affine":
-            start = len(vals)
-            q = np.ascontiguousarray((p - node._offset) @ node._inv.T)
-            v, d = self._walk(node.children[0], q, vals, names, counter)
-            f = node._factor
-            if f != 1.0:
-                for i in range(start, len(vals)):
-                    vals[i] = vals[i] * f
-                v = v * f
-            return v, d
-        if kind == "offset":
-            start = len(vals)
-            v, d = self._walk(node.children[0], p, vals, names, counter)
-            dist = node.params["distance"]
-            for i in range(start, len(vals)):
-                vals[i] = vals[i] - dist
-            return v - dist, d
-        sub, fv = _leaf_facets(node, p)
-        start = len(vals)
-        leaf = counter[0]
-        counter[0] += 1
-        for j, s in enumerate(sub):
-            vals.append(fv[j])
-            names.append(f"{kind}_{leaf}" + (f".{s}" if s else ""))
-        value = node._evaluate(p)
-        dec = start + (fv.argmax(axis=0) if len(sub) > 1 else np.zeros(p.shape[0], dtype=np.intp))
-        return np.asarray(value, dtype=np.float64), dec
-
-    def __call__(self, points):
-        """Field, deciding facet and every facet's value at `points`.
-
-        Parameters
-        ----------
-        points : (n, 3) array_like
-
-        Returns
-        -------
-        value : (n,) float
-            The solid's field.
-        decider : (n,) int
-            Index into `names` of the facet that decides the CSG min/max.
-        facets : (k, n) float
-            Every facet's field.
-
-        Examples
-        --------
-        >>> from implicit import box, cylinder
-        >>> ff = FacetField(box(2) - cylinder(0.5, 4))
-        >>> v, d, f = ff([[0.5, 0.0, 0.0], [1.0, 0.3, 0.0]])
-        >>> [ff.names[i] for i in d]
-        ['cylinder_1.wall', 'box_0.+x']
-        """
-        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
-        vals: list = []
-        names: list = []
-        value, dec = self._walk(self.solid, p, vals, names, [0])
-        return value, dec, np.stack(vals) if vals else np.zeros((0, p.shape[0]))
-
-    def facet_gradients(self, points, step=1e-7):
-        """Gradients of every facet field by central differences, shape ``(k, n, 3)``."""
-        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        n = p.shape[0]
-        off = np.concatenate([np.eye(3), -np.eye(3)]) * step
-        probe = (p[None, :, :] + off[:, None, :]).reshape(-1, 3)
-        _, _, f = self(probe)
-        f = f.reshape(len(self.names), 6, n)
-        return np.moveaxis((f[:, :3] - f[:, 3:]) / (2 * step), 1, 2)
-
-
-def facet_field(solid: Solid) -> FacetField:
-    """The `FacetField` of `solid` (see there)."""
-    return FacetField(solid)
-
 
 # ---------------------------------------------------------------------------
 # projection onto the zero set
