@@ -75,6 +75,9 @@ class FacetField:
             idx = values.argmin(axis=0) if kind == "union" else values.argmax(axis=0)
             cols = np.arange(values.shape[1])
             return values[idx, cols], decs[idx, cols]
+        if kind == "family":
+            # a part-family instance is its built tree: its faces are that tree's
+            return self._walk(node.children[0], p, vals, names, counter)
         if kind == "complement":
             v, d = self._walk(node.children[0], p, vals, names, counter)
             return -v, d
