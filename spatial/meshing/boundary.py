@@ -63,7 +63,7 @@ __all__ = ["mesh"]
 
 
 def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, progress=None,
-         block=DEFAULT_BLOCK):
+         block=DEFAULT_BLOCK, features=False):
     """Closed, outward-oriented triangle mesh of a solid's boundary.
 
     Parameters
@@ -84,6 +84,11 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
         Progress bar (None: only on a terminal).
     block : int
         Voxels per side of a meshing block (even).
+    features : bool
+        Rebuild sharp edges and corners (`spatial.meshing.features`): a
+        vertex on every edge and corner of the CSG faces, and the point data
+        ``feature_rank`` / ``feature_facets`` with the field data
+        ``facet_names`` that `feature_edges` reads.
 
     Returns
     -------
@@ -101,6 +106,8 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     True
     """
     block = _check_block(block)
+    if not isinstance(features, (bool, np.bool_)):
+        raise TypeError(f"features: expected True or False, got {features!r}")
     lattice = make_lattice(solid, voxel_size=voxel_size, resolution=resolution, bounds=bounds)
     if lattice.empty:
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
@@ -112,7 +119,7 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
                       refine=refine, progress=progress, evaluations=found["evaluations"], block=block,
                       centre_values=found.pop("centres"), uniform_cells=found.pop("uniform"),
                       uniform_parents=found.pop("uniform_parents"),
-                      node_values=found.pop("nodes"), _stacklevel=3)
+                      node_values=found.pop("nodes"), features=bool(features), _stacklevel=3)
 
 
 def _boundary_cells_2h(lattice, progress):

@@ -10,6 +10,7 @@ import numpy as np
 from ..files.progress import progress_bar
 from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _stable_order, empty_mesh
 from .blocks import check_block as _check_block, merge_blocks
+from .features import sharpen
 from .refine import _certified, _refine_on_edges
 from .slab import _SlabJob
 
@@ -18,7 +19,7 @@ __all__ = ["mesh_cells"]
 
 def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
                block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, uniform_parents=None, node_values=None,
-               _stacklevel=2):
+               features=False, _stacklevel=2):
     """Mesh the boundary through the given cells of a lattice.
 
     Parameters
@@ -34,7 +35,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         sign only (FULL or EMPTY).
     cell_size : {1, 2}
         Voxels per side of a cell.
-    refine, progress, block
+    refine, progress, block, features
         See `mesh`.
     evaluations : int
         Evaluations already spent (added to the mesh's count).
@@ -175,7 +176,15 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     along += axis
     p0.reshape(-1)[along] += t
     del t, axis, along
+    if features:
+        sharp = sharpen(solid, p0, faces, origin, h)
+        p0, faces = sharp["points"], sharp["faces"]
     out = pv.PolyData.from_regular_faces(p0, faces)
+    if features:
+        out.point_data["feature_rank"] = sharp["feature_rank"]
+        out.point_data["feature_facets"] = sharp["feature_facets"]
+        out.field_data["facet_names"] = np.array(sharp["facet_names"] or [""])
+        out.field_data["feature_cells"] = np.array([sharp["feature_cells"]], dtype=np.int64)
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
     out.field_data["boundary_cells"] = np.array([n_cells], dtype=np.int64)
