@@ -5,7 +5,9 @@ lattice down to cells of two voxels), the pipeline over a set of boundary
 cells `mesh_cells` (`cells`: slabs of blocks, merge, vertex refinement), one
 slab's two-pass sampling (`slab`), one block's marching cubes and the merge of
 blocks by lattice-edge ids (`blocks`), vertex refinement along lattice edges
-(`refine`), the dense grid mesher (`dense`) and the constants and array helpers
+(`refine`), the rebuilding of sharp edges and corners (`features`) and the
+labelled feature curves read from its result (`feature_curves`: `feature_edges`),
+the dense grid mesher (`dense`) and the constants and array helpers
 the stages share (`arrays`).
 
 Importing the room provides `Octree.to_mesh` and `OccupancyGrid.to_mesh` with
@@ -26,9 +28,10 @@ from .blocks import merge_blocks, mesh_block  # noqa: F401
 from .boundary import mesh  # noqa: F401
 from .cells import mesh_cells  # noqa: F401
 from .dense import grid_mesh  # noqa: F401
+from .feature_curves import FeatureCurves, feature_edges  # noqa: F401
 
 provide("mesh_cells", mesh_cells)
 provide("grid_mesh", grid_mesh)
 
-__all__ = ["mesh", "mesh_cells", "mesh_block", "merge_blocks", "grid_mesh", "empty_mesh", "faces_array",
+__all__ = ["mesh", "feature_edges", "FeatureCurves", "mesh_cells", "mesh_block", "merge_blocks", "grid_mesh", "empty_mesh", "faces_array",
            "ZERO_NUDGE", "DEFAULT_BLOCK", "REFINE_STEPS", "REFINE_TOL", "REFINE_ACCEPT"]
