@@ -77,8 +77,8 @@ EIGEN_CUTOFF = 0.03
 NEWTON_STEPS = 2
 #: Feature vertices are kept this far (in voxels) inside their cell's faces.
 CELL_MARGIN = 1e-3
-#: A new triangle must face its ordinary vertices' exact normals with at least this cosine.
-MIN_FACING = 0.05
+#: A new triangle must face one ordinary vertex's exact normal with ``cos > MIN_FACING`` and oppose none.
+MIN_FACING = 0.3
 #: Rounds of rejecting bad cells before the pass gives up (and returns the plain mesh).
 ROUNDS = 6
 
@@ -230,11 +230,7 @@ def sharpen(solid, points, faces, origin, h):
     # -- 4./5. fans and flips, with the cells that fail handed back --------------------------
     t_verts = f[tri]
     for _ in range(ROUNDS):
-        built = _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells)
-        if built is None:
-            return plain
-        new_faces, owner, fan_cells = built
-        newp = np.concatenate([pts, x[fan_cells]])
+        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x)
         bad = _facing_badly(newp, new_faces, exact, n)
         if not bad.any():
             break
@@ -285,18 +281,20 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     return x
 
 
-def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells):
+def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x):
     """Fans of the feature cells whose patch is one disc, and the flips between them.
 
     Returns the new triangles, for each the cells it came from (two for a
     flipped pair, the second -1 otherwise) as ``owner`` (k, 2), and the cells
-    that received a vertex (vertex ``n + i`` is cell ``fan_cells[i]``);
-    ``feature`` is updated in place (cells that are not one disc dropped).
+    that received a vertex (vertex ``n + i`` is cell ``fan_cells[i]``) and
+    the points with those vertices appended; ``feature`` is updated in place
+    (cells that are not one disc dropped).  A flip is made only where both
+    of its triangles face their ordinary vertices' normals.
     """
     sel = feature[tcell]
     tv, tc = t_verts[sel], tcell[sel]
     if tv.shape[0] == 0:
-        return np.empty((0, 3), np.int64), np.empty((0, 2), np.int64), np.empty(0, np.int64)
+        return np.empty((0, 3), np.int64), np.empty((0, 2), np.int64), np.empty(0, np.int64), pts
     # directed edges of the cells' triangles; an undirected edge met once in its cell is on the cell's border
     e0 = tv.reshape(-1)
     e1 = tv[:, [1, 2, 0]].reshape(-1)
@@ -334,14 +332,18 @@ def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells):
     uk, cnt = np.unique(fk, return_counts=True)
     single = cnt[np.searchsorted(uk, fk)] == 1
     i, j = i[single], j[single]
+    newp = np.concatenate([pts, x[fan_cells]])
     # (a, b, F1) and (b, a, F2) become (a, F2, F1) and (F2, b, F1)
     a_, b_, f1, f2 = fan[i, 0], fan[i, 1], fan[i, 2], fan[j, 2]
-    fan[i] = np.stack([a_, f2, f1], axis=1)
-    fan[j] = np.stack([f2, b_, f1], axis=1)
+    t1, t2 = np.stack([a_, f2, f1], axis=1), np.stack([f2, b_, f1], axis=1)
+    good = ~(_facing_badly(newp, t1, exact, n) | _facing_badly(newp, t2, exact, n))
+    i, j, t1, t2 = i[good], j[good], t1[good], t2[good]
+    fan[i] = t1
+    fan[j] = t2
     both = np.stack([owner[i, 0], owner[j, 0]], axis=1)
     owner[i] = both
     owner[j] = both
-    return fan, owner, fan_cells
+    return fan, owner, fan_cells, newp
 
 
 def _vertex_counts(tc, tv, n, n_cells):
@@ -350,16 +352,23 @@ def _vertex_counts(tc, tv, n, n_cells):
 
 
 def _facing_badly(points, faces, exact, n):
-    """New triangles that are degenerate or face away from an ordinary vertex's exact normal."""
+    """New triangles that are degenerate, or do not face their ordinary vertices' exact normals.
+
+    A vertex next to an edge may belong to the other face, so a triangle
+    must face the normal of one of its ordinary vertices (``cos >
+    MIN_FACING``) and oppose none (``cos > -MIN_FACING``).
+    """
     a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
-    cross = np.cross(b - a, c - a)
-    area2 = np.linalg.norm(cross, axis=1)
-    scale = np.max(np.linalg.norm(np.stack([b - a, c - b, a - c]), axis=2), axis=0)
+    cross = _cross(b - a, c - a)
+    area2 = np.sqrt(np.einsum("ij,ij->i", cross, cross))
+    scale = np.max([np.einsum("ij,ij->i", d, d) for d in (b - a, c - b, a - c)], axis=0)
     tn = _unit(cross)
-    bad = area2 <= 1e-6 * scale ** 2
+    bad = area2 <= 1e-6 * scale
+    best = np.full(faces.shape[0], -np.inf)
     for k in range(3):
         v = faces[:, k]
         ordinary = v < n
         cos = np.einsum("ij,ij->i", tn, exact[np.where(ordinary, v, 0)])
-        bad |= ordinary & (cos < MIN_FACING)
-    return bad
+        bad |= ordinary & (cos < -MIN_FACING)
+        best = np.maximum(best, np.where(ordinary, cos, -np.inf))
+    return bad | (best < MIN_FACING)
