@@ -426,7 +426,8 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
             from ..meshing.boundary import mesh as _mesh_solid
         except ImportError as exc:
             raise ImportError("surface_for_fea needs spatial.mesh to mesh a Solid; pass a surface mesh instead") from exc
-        mesh = _mesh_solid(solid, voxel_size=voxel_size or size / 4.0)
+        # the feature mesh: its edges and corners are where the CSG faces meet, not chamfers
+        mesh = _mesh_solid(solid, voxel_size=voxel_size or size / 4.0, features=True)
     if mesh.n_cells == 0:
         raise ValueError("solid_or_mesh: the mesh has no cells")
 
