@@ -12,6 +12,15 @@ Targets: N=512 in <= 3 s and 500 MB, N=1024 in <= 15 s and 1.5 GB, at most 6
 million evaluations at N=512 growing <= 4.5x per doubling.
 
     .venv/bin/python bench/bench_mesh.py [--sizes 128 256 512 1024] [--repeat 3] [--no-refine]
+
+With ``--features`` each size is meshed with and without the feature pass
+(`mesh(..., features=True)`) and the table gives both times, their ratio, the
+triangle ratio and both volume errors; ``--edges N`` then measures, at N
+cells across, the distance from points of the exact CSG edges and corners
+(`bench/feature_truth.py`) to both meshes of the benchmark part, an L
+bracket, a stepped shaft with a keyway and a box with pockets, in voxels:
+
+    .venv/bin/python bench/bench_mesh.py --features --sizes 256 512 --edges 128
 """
 
 from __future__ import annotations
@@ -36,7 +45,7 @@ import numpy, pyvista, skimage.measure  # imports outside the timing
 part(numpy.zeros((200000, 3)))  # warm any compiled evaluation path outside the timing
 t0 = time.perf_counter()
 c0 = time.process_time()
-m = mesh(part, resolution={n}, refine={refine}, progress=False)
+m = mesh(part, resolution={n}, refine={refine}, progress=False, features={features})
 wall = time.perf_counter() - t0
 cpu = time.process_time() - c0
 peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
@@ -47,8 +56,8 @@ print(json.dumps(out))
 """
 
 
-def run_one(n, refine):
-    code = CHILD.format(root=ROOT, n=n, refine=refine)
+def run_one(n, refine, features=False):
+    code = CHILD.format(root=ROOT, n=n, refine=refine, features=features)
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return json.loads(res.stdout.strip().splitlines()[-1])
 
@@ -58,8 +67,12 @@ def main(argv=None):
     parser.add_argument("--sizes", type=int, nargs="+", default=[128, 256, 512, 1024])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--no-refine", action="store_true")
+    parser.add_argument("--features", action="store_true", help="compare with mesh(..., features=True)")
+    parser.add_argument("--edges", type=int, default=0, help="edge and corner distances at this N")
     args = parser.parse_args(argv)
     refine = not args.no_refine
+    if args.features:
+        return compare_features(args.sizes, args.repeat, refine, args.edges)
     print(f"benchmark part, spatial.mesh(refine={refine}); median of {args.repeat} runs, one process each")
     print(f"{'N':>6} {'wall s':>8} {'cpu s':>7} {'evaluations':>12} {'peak MB':>8} {'triangles':>10} {'volume':>11} manifold")
     prev = None
@@ -75,6 +88,68 @@ def main(argv=None):
               f"{r['volume']:>11.8f} {'yes' if r['manifold'] else 'NO'}{growth}", flush=True)
     print("exact volume 0.98878635")
     return 0
+
+
+EXACT_VOLUME = 0.988789504774
+
+
+def compare_features(sizes, repeat, refine, edges_n):
+    print(f"benchmark part, spatial.mesh with and without features; median of {repeat} runs, one process each")
+    print(f"{'N':>6} {'plain s':>8} {'feat s':>8} {'ratio':>6} {'tri ratio':>9} {'vol err plain':>14} "
+          f"{'vol err feat':>13}")
+    for n in sizes:
+        plain = [run_one(n, refine) for _ in range(repeat)]
+        feat = [run_one(n, refine, True) for _ in range(repeat)]
+        wp = statistics.median(r["wall"] for r in plain)
+        wf = statistics.median(r["wall"] for r in feat)
+        print(f"{n:>6} {wp:>8.2f} {wf:>8.2f} {wf / wp:>6.2f} {feat[0]['triangles'] / plain[0]['triangles']:>9.3f} "
+              f"{plain[0]['volume'] - EXACT_VOLUME:>14.2e} {feat[0]['volume'] - EXACT_VOLUME:>13.2e}", flush=True)
+    if edges_n:
+        edge_table(edges_n)
+    return 0
+
+
+def edge_parts():
+    from implicit import box, cylinder, sphere
+    from implicit.families import instance
+
+    bench = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
+        - cylinder(0.5, 4, axis=(0, 0, 1))
+    bracket = instance("l_bracket", width=30.0, leg_a=50.0, leg_b=40.0, thickness=4.0, hole_diameter=6.0,
+                       holes_per_leg=2)
+    shaft = (cylinder(0.5, 1.2, center=(0, 0, -0.6)) | cylinder(0.35, 1.0, center=(0, 0, 0.5))) \
+        - box((0.2, 0.3, 0.6), center=(0.0, 0.3, 0.45))
+    pockets = box((2.0, 1.4, 0.6)) - box((0.6, 0.5, 0.4), center=(-0.5, 0.0, 0.2)) \
+        - box((0.5, 0.8, 0.3), center=(0.5, 0.1, 0.25)) - cylinder(0.15, 1.0, center=(0.0, -0.45, 0.0))
+    return [("benchmark part", bench), ("L bracket", bracket), ("stepped shaft + keyway", shaft),
+            ("box with pockets", pockets)]
+
+
+def edge_table(n):
+    import numpy as np
+
+    sys.path.insert(0, ROOT)
+    sys.path.insert(0, os.path.join(ROOT, "bench"))
+    from feature_truth import distances, exact_features
+    from spatial import mesh
+
+    print(f"\ndistances to the mesh at N={n}, in voxels h (exact edges sampled from a mesh at 2N)")
+    print(f"{'part':<24} {'edge pts':>8} {'plain max':>9} {'feat max':>8} {'feat p99':>8} {'feat med':>8} "
+          f"{'corners':>7} {'plain max':>9} {'feat max':>8}")
+    for name, part in edge_parts():
+        edges, _, corners, _, _ = exact_features(part, resolution=2 * n)
+        row = [f"{name:<24} {edges.shape[0]:>8d}"]
+        res = {}
+        for feat in (False, True):
+            m = mesh(part, resolution=n, features=feat, progress=False)
+            h = float(m.field_data["voxel_size"][0])
+            res[feat] = (distances(m, edges) / h, distances(m, corners) / h)
+        de0, dc0 = res[False]
+        de1, dc1 = res[True]
+        row.append(f"{de0.max():>9.3f} {de1.max():>8.3f} {np.percentile(de1, 99):>8.3f} {np.median(de1):>8.4f}")
+        cmax = (lambda d: f"{d.max():.3f}" if d.size else "-")
+        row.append(f"{corners.shape[0]:>7d} {cmax(dc0):>9} {cmax(dc1):>8}")
+        print(" ".join(row), flush=True)
 
 
 if __name__ == "__main__":
