@@ -63,6 +63,7 @@ SIGGRAPH 2002, doi:10.1145/566654.566586.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 __all__ = ["sharpen", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
@@ -73,8 +74,8 @@ COS_CANDIDATE = 0.97
 COS_SHARP = 0.9
 #: QEF eigenvalues under this fraction of the largest are dropped (the rank is what is left).
 EIGEN_CUTOFF = 0.03
-#: Gauss-Newton steps onto the common curve or point of the cell's faces.
-NEWTON_STEPS = 2
+#: Gauss-Newton steps onto the common curve or point of the cell's faces (from the QEF point, one is enough).
+NEWTON_STEPS = 1
 #: Feature vertices are kept this far (in voxels) inside their cell's faces.
 CELL_MARGIN = 1e-3
 #: A new triangle must face one ordinary vertex's exact normal with ``cos > MIN_FACING`` and oppose none.
@@ -108,6 +109,45 @@ def _gradients(ff, points, step):
     _, decider, fv = ff(probe)
     fv = fv.reshape(fv.shape[0], 4, n)
     return np.moveaxis((fv[:, 1:] - fv[:, :1]) / step, 1, 2), fv[:, 0], decider[:n]
+
+
+@numba.njit(cache=True, nogil=True)
+def _candidate_cells(pts, faces, origin, h, cos_limit):
+    """Lattice cell of every triangle and whether it departs from a vertex normal (one pass each)."""
+    m = faces.shape[0]
+    n = pts.shape[0]
+    vn = np.zeros((n, 3))
+    tn = np.empty((m, 3))
+    for t in range(m):
+        a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
+        ux = pts[b, 0] - pts[a, 0]; uy = pts[b, 1] - pts[a, 1]; uz = pts[b, 2] - pts[a, 2]
+        vx = pts[c, 0] - pts[a, 0]; vy = pts[c, 1] - pts[a, 1]; vz = pts[c, 2] - pts[a, 2]
+        cx = uy * vz - uz * vy; cy = uz * vx - ux * vz; cz = ux * vy - uy * vx
+        tn[t, 0] = cx; tn[t, 1] = cy; tn[t, 2] = cz
+        for k in range(3):
+            v = faces[t, k]
+            vn[v, 0] += cx; vn[v, 1] += cy; vn[v, 2] += cz
+    for v in range(n):
+        s = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
+        if s > 0:
+            vn[v, 0] /= s; vn[v, 1] /= s; vn[v, 2] /= s
+    marked = np.zeros(m, np.bool_)
+    ijk = np.empty((m, 3), np.int64)
+    third = 1.0 / 3.0
+    for t in range(m):
+        s = np.sqrt(tn[t, 0] ** 2 + tn[t, 1] ** 2 + tn[t, 2] ** 2)
+        if s > 0:
+            worst = 1.0
+            for k in range(3):
+                v = faces[t, k]
+                d = (tn[t, 0] * vn[v, 0] + tn[t, 1] * vn[v, 1] + tn[t, 2] * vn[v, 2]) / s
+                if d < worst:
+                    worst = d
+            marked[t] = worst < cos_limit
+        for j in range(3):
+            q = (pts[faces[t, 0], j] + pts[faces[t, 1], j] + pts[faces[t, 2], j]) * third
+            ijk[t, j] = np.int64(np.floor((q - origin[j]) / h))
+    return marked, ijk, vn
 
 
 def _runs(sorted_keys):
@@ -158,17 +198,7 @@ def sharpen(solid, points, faces, origin, h):
     origin = np.asarray(origin, dtype=np.float64)
 
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
-    a, b, c = pts[f[:, 0]], pts[f[:, 1]], pts[f[:, 2]]
-    cross = _cross(b - a, c - a)
-    vn = np.zeros((n, 3))
-    for j in range(3):
-        vn[:, j] = sum(np.bincount(f[:, k], weights=cross[:, j], minlength=n) for k in range(3))
-    vn = _unit(vn)
-    tn = _unit(cross)
-    facing = np.min([np.einsum("ij,ij->i", tn, vn[f[:, k]]) for k in range(3)], axis=0)
-    marked = (facing < COS_CANDIDATE) & np.any(tn != 0, axis=1)
-    ijk = np.floor(((a + b + c) / 3.0 - origin) / h).astype(np.int64)
-    del a, b, c, cross, tn, facing
+    marked, ijk, vn = _candidate_cells(pts, f, origin, float(h), COS_CANDIDATE)
     if not marked.any():
         return plain
     lo = ijk.min(axis=0)
