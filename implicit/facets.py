@@ -139,6 +139,41 @@ class FacetField:
         value, dec = self._walk(self.solid, p, vals, names, [0])
         return value, dec, np.stack(vals) if vals else np.zeros((0, p.shape[0]))
 
+    def facet_values(self, points):
+        """Every facet's field ``(k, n)`` alone (no CSG decision: cheaper than calling the field).
+
+        Examples
+        --------
+        >>> from implicit import box
+        >>> FacetField(box(2.0)).facet_values([[0.5, 0.0, 0.0]])[:, 0].tolist()
+        [-0.5, -1.0, -1.0, -1.5, -1.0, -1.0]
+        """
+        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+        vals: list = []
+        self._values(self.solid, p, vals)
+        return np.stack(vals) if vals else np.zeros((0, p.shape[0]))
+
+    def _values(self, node, p, vals):
+        kind = node.kind
+        if kind in ("union", "intersection", "difference"):
+            for c in node.children:
+                self._values(c, p, vals)
+        elif kind in ("complement", "family"):
+            self._values(node.children[0], p, vals)
+        elif kind == "affine":
+            start = len(vals)
+            self._values(node.children[0], np.ascontiguousarray((p - node._offset) @ node._inv.T), vals)
+            if node._factor != 1.0:
+                for i in range(start, len(vals)):
+                    vals[i] = vals[i] * node._factor
+        elif kind == "offset":
+            start = len(vals)
+            self._values(node.children[0], p, vals)
+            for i in range(start, len(vals)):
+                vals[i] = vals[i] - node.params["distance"]
+        else:
+            vals.extend(_leaf_facets(node, p)[1])
+
     def facet_gradients(self, points, step=1e-7):
         """Gradients of every facet field by central differences, shape ``(k, n, 3)``."""
         p = np.asarray(points, dtype=np.float64).reshape(-1, 3)

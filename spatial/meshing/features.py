@@ -104,11 +104,9 @@ def _gradients(ff, points, step):
     The facets are planes, cylinders, spheres...: smooth where they are
     used, so one-sided steps of ``1e-6 h`` are accurate far below ``h``.
     """
-    n = points.shape[0]
-    probe = np.concatenate([points] + [points + np.eye(3)[j] * step for j in range(3)])
-    _, decider, fv = ff(probe)
-    fv = fv.reshape(fv.shape[0], 4, n)
-    return np.moveaxis((fv[:, 1:] - fv[:, :1]) / step, 1, 2), fv[:, 0], decider[:n]
+    _, decider, f0 = ff(points)
+    g = np.stack([(ff.facet_values(points + np.eye(3)[j] * step) - f0) / step for j in range(3)], axis=2)
+    return g, f0, decider
 
 
 @numba.njit(cache=True, nogil=True)
@@ -268,8 +266,9 @@ def sharpen(solid, points, faces, origin, h):
         feature[gone[gone >= 0]] = False
     else:
         return plain
-    out_faces = np.concatenate([f[np.setdiff1d(np.arange(f.shape[0]), tri[feature[tcell]], assume_unique=True)],
-                                new_faces])
+    kept = np.ones(f.shape[0], bool)
+    kept[tri[feature[tcell]]] = False
+    out_faces = np.concatenate([f[kept], new_faces])
     frank = np.zeros(newp.shape[0], np.int8)
     frank[n:] = np.minimum(rank[fan_cells], 3)
     ffacets = np.full((newp.shape[0], 3), -1, np.int32)
