@@ -109,6 +109,8 @@ def insert_knot(U, p, P, u, r=1):
 def refine(U, p, P, X):
     """Knot refinement: insert all values of sorted ``X`` at once (A5.4)."""
     X = np.sort(np.asarray(X, dtype=float).ravel())
+    if not np.all(np.isfinite(X)):
+        raise ValueError(f"new_knots must be finite numbers, got {X.tolist()!r}")
     if X.size == 0:
         return U.copy(), P.copy()
     a, b = domain(U, p)

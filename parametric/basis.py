@@ -205,6 +205,11 @@ def validate_knots(knots, degree, n_control, name="knots"):
     if not U[n_control - 1] < b:
         raise ValueError(
             f"{name}: knot U[n] = {U[n_control - 1]} must be below the domain end {b}")
+    vals, counts = np.unique(U, return_counts=True)
+    if np.any(counts > p + 1):
+        raise ValueError(
+            f"{name}: knot {vals[counts > p + 1][0]} repeats {counts[counts > p + 1][0]} times; "
+            f"at most degree + 1 = {p + 1} allowed (at the ends)")
     inner = U[p + 1:n_control]
     if inner.size:
         vals, counts = np.unique(inner, return_counts=True)

@@ -10,6 +10,9 @@ from .surface_base import Surface, _check_domain_pair  # noqa: F401
 
 __all__ = ["BicubicPatch"]
 
+#: Smallest gap between two interpolation parameters of a patch.
+_MIN_GAP = 1e-3
+
 _BEZ3 = np.array([[1.0, 0.0, 0.0, 0.0],
                   [-3.0, 3.0, 0.0, 0.0],
                   [3.0, -6.0, 3.0, 0.0],
@@ -45,6 +48,8 @@ class BicubicPatch(Surface):
             raise TypeError("points must be a numeric array of shape (4, 4, dim)") from None
         if G.ndim != 3 or G.shape[:2] != (4, 4):
             raise ValueError(f"points must have shape (4, 4, dim), got {G.shape}")
+        if not np.all(np.isfinite(G)):
+            raise ValueError("points must be finite numbers (got NaN or infinity)")
         us = self._p4(u_params, "u_params")
         vs = self._p4(v_params, "v_params")
         Mu = np.vander(us, 4, increasing=True)
@@ -57,8 +62,14 @@ class BicubicPatch(Surface):
         if x is None:
             return np.linspace(0.0, 1.0, 4)
         t = np.asarray(x, dtype=float).ravel()
-        if t.size != 4 or np.any(t < 0) or np.any(t > 1) or np.unique(t).size != 4:
+        if t.size != 4 or not np.all(np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
             raise ValueError(f"{name} must be 4 distinct values in [0, 1], got {x!r}")
+        # the Vandermonde inverse grows like 1/gap^3: nearly equal parameters
+        # give coefficients of no precision
+        gap = np.min(np.diff(np.sort(t)))
+        if not gap >= _MIN_GAP:
+            raise ValueError(f"{name} must be 4 distinct values in [0, 1] at least {_MIN_GAP:g} apart, "
+                             f"got {x!r}")
         return t
 
     def _set(self, K):

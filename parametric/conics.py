@@ -88,8 +88,10 @@ def arc(radius, start_angle, sweep_angle, center=(0.0, 0.0, 0.0), normal=None, x
     True
     """
     r = float(radius)
-    if not r > 0:
-        raise ValueError(f"radius must be > 0, got {radius}")
+    if not (r > 0 and np.isfinite(r)):
+        raise ValueError(f"radius must be > 0 and finite, got {radius}")
+    if not np.isfinite(float(start_angle)):
+        raise ValueError(f"start_angle must be a finite angle in radians, got {start_angle}")
     sweep = float(sweep_angle)
     if not 0 < abs(sweep) <= 2 * np.pi + 1e-12:
         raise ValueError(f"sweep_angle must satisfy 0 < |sweep| <= 2 pi, got {sweep}")
@@ -140,8 +142,8 @@ def ellipse(a, b, center=(0.0, 0.0, 0.0), normal=None, x_axis=None):
     1.0
     """
     a, b = float(a), float(b)
-    if not (a > 0 and b > 0):
-        raise ValueError(f"a and b must be > 0, got a={a}, b={b}")
+    if not (a > 0 and b > 0 and np.isfinite(a) and np.isfinite(b)):
+        raise ValueError(f"a and b must be > 0 and finite, got a={a}, b={b}")
     unit = arc(1.0, 0.0, 2 * np.pi, center=(0.0, 0.0))
     local = unit.control_points * np.array([a, b])
     c = np.asarray(center, dtype=float).ravel()
@@ -165,8 +167,10 @@ def parabola(a=1.0, x_range=(-1.0, 1.0)):
     """
     a = float(a)
     x0, x1 = (float(x) for x in x_range)
-    if not (a != 0 and x0 < x1):
-        raise ValueError(f"need a != 0 and x_range[0] < x_range[1], got a={a}, {x_range}")
+    if not (a != 0 and np.isfinite(a)):
+        raise ValueError(f"a must be a finite nonzero number, got a={a}")
+    if not (np.isfinite(x0) and np.isfinite(x1) and x0 < x1):
+        raise ValueError(f"x_range must be finite with x_range[0] < x_range[1], got {x_range}")
     P = [[x0, a * x0 * x0], [(x0 + x1) / 2.0, a * x0 * x1], [x1, a * x1 * x1]]
     return conic_arc(P[0], P[1], P[2], 1.0)
 
@@ -186,7 +190,7 @@ def hyperbola(a=1.0, b=1.0, t_range=(-1.0, 1.0)):
     """
     a, b = float(a), float(b)
     t0, t1 = (float(t) for t in t_range)
-    if not (a > 0 and b > 0 and t0 < t1):
+    if not (a > 0 and b > 0 and t0 < t1 and np.all(np.isfinite([a, b, t0, t1]))):
         raise ValueError(f"need a, b > 0 and t_range[0] < t_range[1], got a={a}, b={b}, {t_range}")
     s = (t1 - t0) / 2.0
     m = (t0 + t1) / 2.0

@@ -408,8 +408,8 @@ class NURBS(BSpline):
         if w.size != self._P.shape[0]:
             raise ValueError(
                 f"weights must have one value per control point ({self._P.shape[0]}), got {w.size}")
-        if np.any(w <= 0):
-            raise ValueError("weights must be > 0")
+        if not np.all((w > 0) & np.isfinite(w)):
+            raise ValueError("weights must be > 0 and finite")
         self._w = w
         Pw = np.concatenate([self._P * w[:, None], w[:, None]], axis=1)
         Pw.setflags(write=False)

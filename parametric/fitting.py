@@ -121,7 +121,16 @@ def interpolate_curve(points, degree=3, *, method="chord", params=None):
     p = _check_degree(degree)
     if Q.shape[0] < p + 1:
         raise ValueError(f"points: degree {p} needs at least {p + 1} points, got {Q.shape[0]}")
+    same = np.flatnonzero(np.all(Q[1:] == Q[:-1], axis=1))
+    if same.size:
+        i = int(same[0])
+        raise ValueError(f"points: consecutive points {i} and {i + 1} coincide ({Q[i].tolist()}); an "
+                         "interpolating curve cannot pass one point twice in a row (drop the repeats)")
     t = parametrize(Q, method) if params is None else _params(params, Q.shape[0])
+    if np.any(np.diff(t) <= 0):
+        i = int(np.flatnonzero(np.diff(t) <= 0)[0])
+        raise ValueError(f"params: expected strictly increasing parameters, got {t[i]} then {t[i + 1]} "
+                         f"at points {i} and {i + 1}")
     U = averaged_knots(t, p)
     A = basis_matrix(U, p, Q.shape[0], t)
     return BSpline(np.linalg.solve(A, Q), p, U)

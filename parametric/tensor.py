@@ -288,8 +288,8 @@ class NURBSSurface(BSplineSurface):
             raise TypeError("weights must be a numeric array of shape (n_u, n_v)") from None
         if w.shape != self._P.shape[:2]:
             raise ValueError(f"weights must have shape {self._P.shape[:2]}, got {w.shape}")
-        if not np.all(w > 0):
-            raise ValueError("weights must be > 0")
+        if not np.all((w > 0) & np.isfinite(w)):
+            raise ValueError("weights must be > 0 and finite")
         w.setflags(write=False)
         self._w = w
         Pw = np.concatenate([self._P * w[..., None], w[..., None]], axis=-1)

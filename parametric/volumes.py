@@ -317,8 +317,8 @@ class NURBSVolume(BSplineVolume):
         w = np.asarray(weights, dtype=float)
         if w.shape != self._P.shape[:3]:
             raise ValueError(f"weights must have shape {self._P.shape[:3]}, got {w.shape}")
-        if not np.all(w > 0):
-            raise ValueError("weights must be > 0")
+        if not np.all((w > 0) & np.isfinite(w)):
+            raise ValueError("weights must be > 0 and finite")
         self._w = w
         self._Pw = np.concatenate([self._P * w[..., None], w[..., None]], axis=-1)
 
