@@ -1,6 +1,6 @@
 """The benchmark part: a sphere-box intersection drilled through along x, y and z.
 
-Volume 0.98878635, genus 5 (Euler characteristic -8).
+Volume 0.988789504774, genus 5 (Euler characteristic -8).
 
     implicad info examples/benchmark_part.py
 """

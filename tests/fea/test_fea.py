@@ -24,7 +24,7 @@ VOLUME_RTOL = 0.005
 
 BENCH = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
     - cylinder(0.5, 4, axis=(0, 0, 1))
-BENCH_VOLUME = 0.98878635
+BENCH_VOLUME = 0.988789504774
 BOX_HOLE = box((2.0, 1.0, 0.5)) - cylinder(0.25, 1.0)
 BOX_HOLE_VOLUME = 2.0 * 1.0 * 0.5 - np.pi * 0.25**2 * 0.5
 
