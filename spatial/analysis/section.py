@@ -72,11 +72,19 @@ class Section:
     polar: float
     voxel_size: float
 
+    @property
+    def is_empty(self) -> bool:
+        """True when the plane misses the part (no loops, no area, no centroid)."""
+        return not self.loops
+
     def to_dict(self) -> dict:
-        """Plain-Python form for JSON."""
+        """Plain-Python form for JSON (an empty section's centroid is null, not NaN)."""
+        centroid = None if self.is_empty else self.centroid.tolist()
+        centroid3d = None if self.is_empty else self.centroid3d.tolist()
         return {
             "point": self.point.tolist(), "normal": self.normal.tolist(), "frame": self.frame.tolist(),
-            "area": self.area, "centroid": self.centroid.tolist(), "centroid3d": self.centroid3d.tolist(),
+            "empty": self.is_empty,
+            "area": self.area, "centroid": centroid, "centroid3d": centroid3d,
             "Ixx": self.Ixx, "Iyy": self.Iyy, "Ixy": self.Ixy, "polar": self.polar,
             "voxel_size": self.voxel_size,
             "loops": [{"hole": bool(h), "points": lp.tolist(), "points3d": l3.tolist()}

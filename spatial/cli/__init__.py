@@ -14,7 +14,7 @@ import os
 import sys
 from importlib import metadata
 
-__all__ = ["main", "build_parser", "CommandError"]
+__all__ = ["main", "build_parser", "CommandError", "NoResult"]
 
 #: Sub-command modules, in the order `--help` lists them.
 COMMAND_MODULES = (
@@ -33,6 +33,11 @@ COMMAND_MODULES = (
 
 class CommandError(Exception):
     """A user-facing failure: printed as one line, exit status 2."""
+
+
+class NoResult(Exception):
+    """Good input, but no answer to give (a plane that misses the part, a
+    tolerance not reached): printed as one line, exit status 1."""
 
 
 def _version() -> str:
@@ -93,6 +98,11 @@ def main(argv=None) -> int:
         except OSError:  # pragma: no cover
             pass
         return 0
+    except NoResult as exc:
+        if debug:
+            raise
+        print(f"implicad: {str(exc).splitlines()[0]}", file=sys.stderr)
+        return 1
     except (CommandError, ValueError, TypeError, OSError, ImportError, MemoryError, SyntaxError) as exc:
         if debug:
             raise

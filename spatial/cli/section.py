@@ -135,6 +135,11 @@ def run(args) -> int:
     solid = load_model(args.model)
     sec = section(solid, plane, resolution=args.resolution)
     label = f"point {tuple(args.point)} normal {tuple(args.normal)}" if args.point else (args.plane or "z=0")
+    if sec.is_empty:
+        from . import NoResult
+
+        raise NoResult(f"the plane {label} misses {args.model}: no material in the section "
+                       "(nothing written)")
     if args.output:
         ext = os.path.splitext(args.output)[1].lower()
         if ext == ".svg":
