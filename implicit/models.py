@@ -23,6 +23,7 @@ from __future__ import annotations
 import errno
 import os
 import runpy
+import stat
 import sys
 from pathlib import Path
 
@@ -43,6 +44,10 @@ def _check_path(path) -> tuple[Path, str]:
         raise IsADirectoryError(errno.EISDIR, "Is a directory", name)
     if p.suffix.lower() not in (".py", ".json"):
         raise ValueError(f"{name}: expected a .py or .json model file")
+    # a device, FIFO or socket (or a link to one: /dev/zero) would be read
+    # without end; only regular files are models
+    if not stat.S_ISREG(p.stat().st_mode):
+        raise ValueError(f"{name}: expected a regular file, got a device, pipe or socket")
     return p, name
 
 
@@ -81,8 +86,12 @@ def _read_json(p: Path, name: str):
     size = p.stat().st_size
     if size > MAX_CHARS:
         raise ValueError(f"{name}: the file is larger than {MAX_CHARS} bytes")
+    with open(p, "rb") as fh:
+        data = fh.read(MAX_CHARS + 1)       # never more, whatever the file claims
+    if len(data) > MAX_CHARS:
+        raise ValueError(f"{name}: the file is larger than {MAX_CHARS} bytes")
     try:
-        return parse_json(p.read_bytes())
+        return parse_json(data)
     except ValueError as exc:
         raise ValueError(f"{name}: {exc}") from None
 

@@ -66,13 +66,15 @@ def build_parser() -> argparse.ArgumentParser:
         prog="implicad",
         description="Volumetric / implicit solid modeler: CSG solids, octree cells, "
         "occupancy grids, boundary meshes, mass properties and FEA meshes.",
+        epilog=_EPILOG,
     )
     parser.add_argument("--version", action="version", version=f"implicad {_version()}")
     parser.add_argument("--debug", action="store_true", help="show a traceback on errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for module in _load_commands():
-        p = sub.add_parser(module.NAME, help=module.HELP, description=getattr(module, "DESCRIPTION", module.HELP))
+        p = sub.add_parser(module.NAME, help=module.HELP, description=getattr(module, "DESCRIPTION", module.HELP),
+                           epilog=_EPILOG)
         p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show a traceback on errors")
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
@@ -81,11 +83,41 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 
+def quiet_vtk() -> None:
+    """Keep VTK's own error and warning lines off the terminal.
+
+    VTK prints them from C++ (the output window and its logger) besides the
+    Python exception pyvista raises; the command reports that exception as its
+    one line, so the C++ copies and pyvista's log records are dropped.
+    """
+    import logging
+
+    try:
+        from vtkmodules.vtkCommonCore import vtkLogger, vtkObject, vtkOutputWindow, vtkStringOutputWindow
+    except ImportError:  # pragma: no cover - VTK is a dependency
+        return
+    vtkObject.GlobalWarningDisplayOff()
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    window = vtkStringOutputWindow()
+    vtkOutputWindow.SetInstance(window)
+    _KEEP.append(window)
+    logging.getLogger().addHandler(logging.NullHandler())    # no lastResort "ERROR:root:" lines
+    logging.getLogger("pyvista").setLevel(logging.CRITICAL)
+
+
+_KEEP: list = []
+_EPILOG = ("Model files: a .py model is a Python program and runs as such, with your rights (load only "
+           "files you trust); a .json model (a CSG tree) never runs code and is the safe format to "
+           "exchange.")
+
+
 def main(argv=None) -> int:
     """Run `implicad` with `argv` (default: ``sys.argv[1:]``); return the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
     debug = getattr(args, "debug", False)
+    if not debug:
+        quiet_vtk()
     try:
         status = args._run(args)
     except KeyboardInterrupt:

@@ -12,8 +12,8 @@ Examples
 True
 """
 
-from .atomic import atomic_write  # noqa: F401
+from .atomic import atomic_write, clean_stale_temporaries  # noqa: F401
 from .meshes import MESH_FORMATS, load_mesh, mesh_format, save_mesh  # noqa: F401
 from .progress import progress_bar  # noqa: F401
 
-__all__ = ["atomic_write", "MESH_FORMATS", "load_mesh", "mesh_format", "save_mesh", "progress_bar"]
+__all__ = ["atomic_write", "clean_stale_temporaries", "MESH_FORMATS", "load_mesh", "mesh_format", "save_mesh", "progress_bar"]

@@ -2,14 +2,84 @@
 
 The writer works on a temporary name beside the target and the result is
 renamed into place (``os.replace``), so a failure never leaves half a file.
+A killed process cannot clean up after itself: its temporary files, named
+``.<target>.<pid>-<hex>.tmp<suffix>``, are removed by the next write into the
+same folder once their writer's process is gone (or, for names without a
+pid, once they are older than `STALE_SECONDS`).
 """
 
 from __future__ import annotations
 
 import os
+import re
+import time
 import uuid
 
-__all__ = ["atomic_write"]
+__all__ = ["atomic_write", "clean_stale_temporaries", "STALE_SECONDS"]
+
+#: Age after which a temporary file whose writer is unknown counts as abandoned.
+STALE_SECONDS = 15 * 60
+
+_TMP_RE = re.compile(r"^\..+\.(?:(?P<pid>\d+)-)?[0-9a-f]{32}\.tmp[^/]*$")
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:     # someone else's live process
+        return True
+    except OSError:  # pragma: no cover - e.g. pid out of range
+        return False
+    return True
+
+
+def clean_stale_temporaries(directory, *, now: float | None = None) -> list[str]:
+    """Remove the temporary files of interrupted atomic writes in `directory`.
+
+    A file counts as abandoned when its name carries a pid of no live
+    process, or carries none and is older than `STALE_SECONDS`.  Files of a
+    live writer (another process still writing) are left alone.
+
+    Returns
+    -------
+    list of str
+        The paths removed.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> clean_stale_temporaries(tempfile.mkdtemp())
+    []
+    """
+    directory = os.fspath(directory)
+    now = time.time() if now is None else now
+    removed = []
+    try:
+        entries = list(os.scandir(directory))
+    except OSError:
+        return removed
+    for entry in entries:
+        m = _TMP_RE.match(entry.name)
+        if m is None:
+            continue
+        try:
+            if not entry.is_file(follow_symlinks=False):
+                continue
+            pid = m.group("pid")
+            if pid is not None:
+                stale = not _alive(int(pid))
+            else:
+                stale = now - entry.stat(follow_symlinks=False).st_mtime > STALE_SECONDS
+            if stale:
+                os.unlink(entry.path)
+                removed.append(entry.path)
+        except OSError:     # raced with another cleaner or the writer itself
+            continue
+    return removed
 
 
 def atomic_write(path, write, suffix=None):
@@ -19,7 +89,9 @@ def atomic_write(path, write, suffix=None):
     atomic) and is created by the writer itself, so the file gets the usual
     permissions (umask) rather than a private temporary file's.  It ends in
     `suffix` (default: the extension of `path`) for writers that choose the
-    format by it.
+    format by it, and carries this process's id so that a later write can
+    tell an abandoned temporary file from a live one
+    (`clean_stale_temporaries`, run before every write).
     """
     path = os.fspath(path)
     if suffix is None:
@@ -27,7 +99,8 @@ def atomic_write(path, write, suffix=None):
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
         raise FileNotFoundError(2, "No such directory", directory)
-    tmp = os.path.join(directory, f".{os.path.basename(path)}.{uuid.uuid4().hex}.tmp{suffix}")
+    clean_stale_temporaries(directory)
+    tmp = os.path.join(directory, f".{os.path.basename(path)}.{os.getpid()}-{uuid.uuid4().hex}.tmp{suffix}")
     try:
         write(tmp)
         os.replace(tmp, path)

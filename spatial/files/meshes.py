@@ -51,7 +51,7 @@ def save_mesh(mesh, path) -> str:
     Raises
     ------
     ValueError
-        Unknown extension (listing the known ones), before any work.
+        Unknown extension (listing the known ones), or an empty mesh, before any work.
     TypeError
         `mesh` is not a pyvista.PolyData.
 
@@ -65,6 +65,9 @@ def save_mesh(mesh, path) -> str:
 
     if not isinstance(mesh, pv.PolyData):
         raise TypeError(f"mesh: expected a pyvista.PolyData, got {type(mesh).__name__}")
+    if mesh.n_cells == 0:
+        raise ValueError("mesh: expected at least one triangle, got an empty mesh (nothing to write; "
+                         "a feature thinner than the voxel size may have vanished)")
 
     def write(tmp):
         if ext == ".obj":
