@@ -61,7 +61,56 @@ def _union_bounds(children):
 def _intersection_bounds(children):
     los = np.array([c.bounds[0] for c in children])
     his = np.array([c.bounds[1] for c in children])
-    return los.max(axis=0), his.min(axis=0)
+    lo, hi = los.max(axis=0), his.min(axis=0)
+    if np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) or np.any(lo > hi):
+        return lo, hi
+    planes = [c for c in children if c.kind == "halfspace"]
+    if not planes:
+        return lo, hi
+    return _halfspace_box(planes, lo, hi)
+
+
+def _halfspace_box(planes, lo, hi):
+    """Bounds of the intersection of half-spaces and the box ``[lo, hi]``.
+
+    Each half-space is a plane ``n . x <= d``; the finite sides of the box
+    (the other children's bounds) are planes too.  Six linear programs give
+    the extreme coordinates of the polytope: a tetrahedron of four tilted
+    half-spaces gets its finite box although no child has one.  An
+    unbounded direction keeps its infinite bound; an empty intersection gets
+    empty bounds.
+    """
+    from scipy.optimize import linprog
+
+    normals = [np.asarray(p.params["normal"], dtype=np.float64) for p in planes]
+    offsets = [float(np.dot(p.params["normal"], p.params["point"])) for p in planes]
+    eye = np.eye(3)
+    for i in range(3):
+        if np.isfinite(hi[i]):
+            normals.append(eye[i])
+            offsets.append(float(hi[i]))
+        if np.isfinite(lo[i]):
+            normals.append(-eye[i])
+            offsets.append(-float(lo[i]))
+    a_ub, b_ub = np.array(normals), np.array(offsets)
+    out_lo, out_hi = lo.copy(), hi.copy()
+    for i in range(3):
+        for sign in (1.0, -1.0):
+            cost = np.zeros(3)
+            cost[i] = sign                      # minimise x_i (sign 1) or -x_i (sign -1)
+            res = linprog(cost, A_ub=a_ub, b_ub=b_ub, bounds=[(None, None)] * 3, method="highs")
+            if res.status == 2:                 # infeasible: nothing is inside
+                return np.full(3, np.inf), np.full(3, -np.inf)
+            if res.status != 0:                 # unbounded (or unsolved): keep the box's side
+                continue
+            value = float(res.x[i])
+            # the LP's vertex is exact to round-off; a little slack keeps it conservative
+            slack = 1e-9 * max(1.0, abs(value), float(np.abs(b_ub).max()))
+            if sign > 0:
+                out_lo[i] = max(out_lo[i], value - slack)
+            else:
+                out_hi[i] = min(out_hi[i], value + slack)
+    return out_lo, out_hi
 
 
 class _SharpBoolean(Solid):
