@@ -45,12 +45,15 @@ def run(args) -> int:
     fea_format(args.output)  # unknown extension: one line, before any work
     if not args.size > 0:
         raise CommandError(f"--size: expected a positive length, got {args.size:g}")
+    from ..cells.budget import check_tet_memory
     from implicit.models import load_model
     from ..fea.surface import surface_for_fea
     from ..files.progress import progress_bar
     from ..fea.tetmesh import MeshQualityWarning, tet_mesh
 
     solid = load_model(args.model)
+    if solid.is_bounded and not solid.is_empty_bounds:
+        check_tet_memory(solid.bounds, args.size)       # refuse at once what would not fit
     with progress_bar(3, "fea", progress=args.progress, unit="step") as bar:
         bar.set_description("fea: surface")
         surface = surface_for_fea(solid, size=args.size)

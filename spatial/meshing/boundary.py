@@ -57,6 +57,7 @@ from .arrays import CLASSIFY_CHUNK, DEFAULT_BLOCK, EVAL_CHUNK, empty_mesh
 from .blocks import check_block as _check_block
 from .cells import mesh_cells
 
+from ..cells.budget import check_mesh_memory
 from ..cells.lattice import CHILD_OFFSETS, descend, make_lattice
 
 __all__ = ["mesh"]
@@ -113,6 +114,7 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
+    check_mesh_memory(lattice.bounds, lattice.voxel_size)     # refuse before allocating (cells.budget)
     found = _boundary_cells_2h(lattice, progress)
     # popped, so that mesh_cells can release them once used
     return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, found.pop("cells"), cell_size=2,
