@@ -12,9 +12,11 @@ import numpy as np
 
 from ..meshing.arrays import faces_array as _faces_array
 from .mass_core import (DEFAULT_TOLERANCE, MAX_CELLS, MIN_CELLS, SAFETY, UNITS, MassError, MassProperties,  # noqa: F401
-                        OpenMeshError, _check_closed, _check_density_units, _finish, _Raw, mesh_moments)
+                        OpenMeshError, ToleranceError, _check_closed, _check_density_units, _finish, _Raw,
+                        mesh_moments)
 
-__all__ = ["MassProperties", "MassError", "mass_properties", "mesh_moments", "UNITS", "OpenMeshError"]
+__all__ = ["MassProperties", "MassError", "mass_properties", "mesh_moments", "UNITS", "OpenMeshError",
+           "ToleranceError"]
 
 
 def _kind(obj) -> str:
@@ -140,9 +142,9 @@ def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher
         tolerance = tol
     from .mass_solid import _solid_raw
 
-    raw, h, n = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher)
+    raw, h, n, note = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher)
     return _finish(raw, density, units, h, f"solid: corrected marching cubes at {n // 4}, {n // 2}, {n} "
-                                           "cells + Richardson")
+                                           f"cells + Richardson{note}")
 
 
 def _default_mesher():

@@ -54,6 +54,7 @@ __all__ = [
     "mesh_moments",
     "UNITS",
     "OpenMeshError",
+    "ToleranceError",
 ]
 
 #: Length units accepted, with their length in metres.
@@ -69,11 +70,32 @@ DEFAULT_TOLERANCE = 1e-4
 MIN_CELLS = 32
 MAX_CELLS = 512
 
+#: Cells of the coarsest extrapolation level across the thinnest wall (at
+#: least one lattice node inside the wall on every line through it).
+WALL_CELLS = 1.2
+
+#: Most cells across a solid that a thin wall may ask for.
+MAX_WALL_CELLS = 4096
+
 _EPS = np.finfo(np.float64).eps
 
 
 class OpenMeshError(ValueError):
     """A mesh is not a closed, consistently oriented surface."""
+
+
+class ToleranceError(RuntimeError):
+    """The requested tolerance was not reached within the finest mesh allowed.
+
+    Attributes ``tolerance``, ``estimate`` (the relative error reached) and
+    ``cells`` (of the finest level) say how far it got.
+    """
+
+    def __init__(self, message, *, tolerance=None, estimate=None, cells=None):
+        super().__init__(message)
+        self.tolerance = tolerance
+        self.estimate = estimate
+        self.cells = cells
 
 
 # ---------------------------------------------------------------------------

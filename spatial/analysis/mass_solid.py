@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mass_core import (MAX_CELLS, MIN_CELLS, SAFETY, _check_closed, _corners, _faces_array, _moments_of,
-                   _Raw)
+from .mass_core import (_EPS, MAX_CELLS, MAX_WALL_CELLS, MIN_CELLS, SAFETY, WALL_CELLS, ToleranceError,
+                        _check_closed, _corners, _faces_array, _moments_of, _Raw)
 
 __all__ = ["shell_correction", "default_mesher"]
 
@@ -180,32 +180,78 @@ def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None):
 
     With `cells` fixed, meshes at ``cells/4``, ``cells/2`` and ``cells``.
     With `tolerance`, starts at `MIN_CELLS` and doubles until the estimated
-    volume error is below ``tolerance * volume`` (at most `MAX_CELLS`).
+    volume error is below ``tolerance * volume``; `ToleranceError` when the
+    finest level allowed does not get there.  Either way the coarsest level
+    gets at least `WALL_CELLS` cells across the thinnest wall
+    (`spatial.cells.thickness.min_feature_size`): coarser levels would lose
+    the wall and wreck the extrapolation, so the levels are refined.
+
+    Returns
+    -------
+    (_Raw, float, int, str)
+        Moments and errors, the finest cell size, its cells across and a
+        note on the levels (why they were refined, or "").
     """
+    from ..cells.thickness import min_feature_size
+
     mesher = mesher or default_mesher()
     lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
     extent = float(np.max(hi - lo))
     c0 = 0.5 * (lo + hi)
+    wall = min_feature_size(solid)
+    need = int(np.ceil(4 * WALL_CELLS * extent / wall))
+    note = ""
+    if need > MAX_WALL_CELLS:
+        raise ValueError(f"solid: its thinnest wall ({wall:.3g}) needs at least {need} cells across its "
+                         f"extent {extent:.3g} for the coarsest extrapolation level to hold it (at most "
+                         f"{MAX_WALL_CELLS}); measure a mesh of it instead, or thicken the wall")
     if cells is not None:
+        if cells < need:
+            note = f"; cells raised from {cells} to {need} for the thinnest wall {wall:.3g}"
+            cells = need
         levels = [max(int(round(cells / 4)), 2), max(int(round(cells / 2)), 4), int(cells)]
     else:
-        levels = [MIN_CELLS // 4, MIN_CELLS // 2, MIN_CELLS]
+        finest = max(MIN_CELLS, need)
+        if finest > MIN_CELLS:
+            note = f"; levels from {finest} cells for the thinnest wall {wall:.3g}"
+        levels = [max(finest // 4, 2), max(finest // 2, 4), finest]
+    last = max(MAX_CELLS, levels[-1])
     vecs = [_coarse_level(solid, extent / n, c0, mesher) for n in levels[:-1]]
     vecs.append(_solid_level(solid, extent / levels[-1], c0, mesher))
     while True:
         est, err = _extrapolate(vecs)
+        err = _honest(est, err, lo, hi, c0)
         if cells is not None or err[0] <= tolerance * abs(est[0]):
             break
-        if levels[-1] >= MAX_CELLS:
-            import warnings
-
-            warnings.warn(f"mass_properties: tolerance {tolerance:g} not reached at {levels[-1]} cells "
-                          f"(estimated relative error {err[0] / max(abs(est[0]), 1e-300):.2g})",
-                          RuntimeWarning, stacklevel=4)
-            break
+        if levels[-1] >= last:
+            rel = err[0] / max(abs(est[0]), 1e-300)
+            raise ToleranceError(f"mass_properties: tolerance {tolerance:g} not reached: estimated relative "
+                                 f"volume error {rel:.2g} at {levels[-1]} cells, the finest allowed (ask for "
+                                 f"a larger tolerance, or a resolution to accept its error)",
+                                 tolerance=tolerance, estimate=rel, cells=levels[-1])
         levels.append(levels[-1] * 2)
         vecs.append(_solid_level(solid, extent / levels[-1], c0, mesher))
-    return _Raw.from_vector(c0, est, err), extent / levels[-1], levels[-1]
+    return _Raw.from_vector(c0, est, err), extent / levels[-1], levels[-1], note
+
+
+def _honest(est, err, lo, hi, c0):
+    """Floors under the per-moment error estimates.
+
+    An error of volume ``dV`` anywhere in the box moves the first moment by
+    up to ``dV |x - c0|`` and the second by ``dV |x - c0|^2``: the moments'
+    estimates may not claim less than that (their own extrapolations can
+    agree by chance, e.g. on a symmetric part, while the volume's do not).
+    Round-off of the sums is a floor for all.
+    """
+    half = 0.5 * (hi - lo)
+    out = err.copy()
+    ev = max(err[0], 64 * _EPS * abs(est[0]))
+    out[0] = ev
+    out[1:4] = np.maximum(err[1:4], ev * half)
+    out[4:13] = np.maximum(err[4:13], ev * np.outer(half, half).ravel())
+    scale = np.concatenate([[abs(est[0])], abs(est[0]) * half, abs(est[0]) * np.outer(half, half).ravel(),
+                            [abs(est[13])]])
+    return np.maximum(out, 64 * _EPS * scale)
 
 
 def _coarse_level(solid, h, c0, mesher):

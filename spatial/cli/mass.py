@@ -98,7 +98,14 @@ def run(args) -> int:
     elif any(v is not None for v in (args.voxel_size, args.resolution, args.tolerance)):
         raise ValueError(f"{args.model}: a mesh file is integrated exactly; --voxel-size, --resolution and "
                          "--tolerance apply to model files only")
-    props = mass_properties(target, density=args.density, units=args.units, **kw)
+    from ..analysis.mass import ToleranceError
+
+    try:
+        props = mass_properties(target, density=args.density, units=args.units, **kw)
+    except ToleranceError as exc:
+        from . import NoResult
+
+        raise NoResult(str(exc)) from None
     if args.json:
         d = props.to_dict()
         keys = ["volume", "mass", "area", "centroid", "inertia", "inertia_origin", "principal_moments",
