@@ -61,8 +61,55 @@ def _grid_to_solid(grid, pad=2):
     return GridSolid(arr, origin=origin, voxel_size=h)
 
 
-def mesh_to_solid(mesh_or_path, voxel_size, *, half_width=VDB_HALF_WIDTH):
+def _open_edges(faces: np.ndarray) -> int:
+    """Half-edges without an opposite one (0 for a closed, consistently
+    oriented, manifold surface); an edge used twice the same way counts too."""
+    a = faces.ravel().astype(np.int64)
+    b = np.roll(faces, -1, axis=1).ravel().astype(np.int64)
+    n = int(max(a.max(), b.max())) + 1
+    fwd = np.unique(a * n + b, return_counts=True)
+    rev = np.sort(b * n + a)
+    repeated = int((fwd[1] > 1).sum())
+    found = np.isin(fwd[0], rev, assume_unique=False)
+    return int((~found).sum()) + repeated
+
+
+def _intersecting(points, faces) -> int:
+    import pymeshfix
+
+    tm = pymeshfix.PyTMesh()
+    tm.set_quiet(True)
+    tm.load_array(np.ascontiguousarray(points, dtype=np.float64), np.ascontiguousarray(faces, dtype=np.int32))
+    return int(len(tm.select_intersecting_triangles(justproper=True)))
+
+
+def _repaired(points, faces):
+    import pymeshfix
+
+    fix = pymeshfix.MeshFix(np.asarray(points, dtype=np.float64), np.asarray(faces, dtype=np.int32))
+    fix.repair()
+    return np.asarray(fix.points, dtype=np.float64), np.asarray(fix.faces, dtype=np.int32).reshape(-1, 3)
+
+
+def _mesh_problems(points, faces) -> str:
+    """'' for a closed, oriented, non-self-intersecting mesh, else what is wrong."""
+    open_edges = _open_edges(faces)
+    if open_edges:
+        return f"open or not consistently oriented ({open_edges} edges without an opposite)"
+    crossing = _intersecting(points, faces)
+    if crossing:
+        return f"self-intersecting ({crossing} triangles cross another)"
+    return ""
+
+
+def mesh_to_solid(mesh_or_path, voxel_size, *, half_width=VDB_HALF_WIDTH, repair=False):
     """A closed triangle mesh as a solid (an OpenVDB narrow-band level set).
+
+    An open or self-intersecting mesh has no inside: its level set would call
+    points outside the part inside.  Such a mesh is refused, or, with
+    ``repair=True``, first closed and untangled by pymeshfix (holes filled,
+    intersecting triangles removed and re-stitched), which changes the
+    surface where it was broken.
 
     Parameters
     ----------
@@ -73,10 +120,18 @@ def mesh_to_solid(mesh_or_path, voxel_size, *, half_width=VDB_HALF_WIDTH):
     half_width : float
         Narrow-band half width in voxels; distances are clamped to it (the
         field stays a conservative bound).
+    repair : bool
+        Repair an open or self-intersecting mesh instead of refusing it.
 
     Returns
     -------
     implicit.fields.GridSolid
+
+    Raises
+    ------
+    ValueError
+        The mesh is open, not consistently oriented, or intersects itself
+        (and `repair` is False), or a repair leaves it so.
     """
     from implicit.solid import as_positive
 
@@ -91,10 +146,22 @@ def mesh_to_solid(mesh_or_path, voxel_size, *, half_width=VDB_HALF_WIDTH):
     vdb = import_openvdb()
     tri = mesh.triangulate() if not mesh.is_all_triangles else mesh
     faces = tri.faces.reshape(-1, 4)[:, 1:].astype(np.int32)
+    points = np.asarray(tri.points, dtype=np.float64)
+    if not np.all(np.isfinite(points)):
+        raise ValueError("mesh_or_path: the mesh has non-finite vertices")
+    problems = _mesh_problems(points, faces)
+    if problems and repair:
+        points, faces = _repaired(points, faces)
+        problems = _mesh_problems(points, faces) if len(faces) else "no faces left"
+        if problems:
+            raise ValueError(f"mesh_or_path: the repaired mesh is still {problems}")
+    elif problems:
+        raise ValueError(f"mesh_or_path: the mesh is {problems}, so it has no inside; repair it "
+                         "(mesh_to_solid(..., repair=True) uses pymeshfix) or give a closed surface")
     # OpenVDB level sets wind inward: flip the outward triangles.
     faces = faces[:, ::-1].copy()
     grid = vdb.FloatGrid.createLevelSetFromPolygons(
-        np.asarray(tri.points, dtype=np.float32), triangles=faces,
+        np.asarray(points, dtype=np.float32), triangles=faces,
         transform=vdb.createLinearTransform(voxelSize=h), halfWidth=float(half_width))
     return _grid_to_solid(grid)
 
