@@ -149,6 +149,9 @@ def mesh_to_solid(mesh_or_path, voxel_size, *, half_width=VDB_HALF_WIDTH, repair
     points = np.asarray(tri.points, dtype=np.float64)
     if not np.all(np.isfinite(points)):
         raise ValueError("mesh_or_path: the mesh has non-finite vertices")
+    # STL repeats every vertex per triangle: weld equal positions first
+    points, inverse = np.unique(points, axis=0, return_inverse=True)
+    faces = inverse.reshape(-1)[faces].astype(np.int32)
     problems = _mesh_problems(points, faces)
     if problems and repair:
         points, faces = _repaired(points, faces)
