@@ -64,6 +64,11 @@ class Interference:
         A point on each surface realising `clearance`.
     voxel_size : float
         Cell size used.
+    possible_contact : bool
+        No shared volume was found, but the clearance's lower bound is 0:
+        an overlap or contact thinner than a cell cannot be excluded;
+        `volume_error` then bounds the volume it may have (the cells the
+        octree of ``a & b`` could not prove empty).
     """
 
     interferes: bool
@@ -75,6 +80,7 @@ class Interference:
     clearance_error: float
     closest_points: np.ndarray | None
     voxel_size: float
+    possible_contact: bool = False
 
     def to_dict(self) -> dict:
         """Plain-Python form for JSON."""
@@ -84,7 +90,7 @@ class Interference:
             "overlap_bounds": None if self.overlap_bounds is None else [b.tolist() for b in self.overlap_bounds],
             "clearance": self.clearance, "clearance_error": self.clearance_error,
             "closest_points": None if self.closest_points is None else self.closest_points.tolist(),
-            "voxel_size": self.voxel_size,
+            "voxel_size": self.voxel_size, "possible_contact": self.possible_contact,
         }
 
 
@@ -224,10 +230,19 @@ def interference(a, b, *, resolution: int | None = None, voxel_size: float | Non
             volume = mesh_moments(pts, tri).volume
             err = abs(volume)
             if volume > 0:
-                cells = max(int(round(float(np.max(overlap[1] - overlap[0])) / h)), 32)
+                # the requested cell size, over the overlap; the overlap's own
+                # thinnest wall (an annulus of a pin in a hole is thinner than
+                # either part) from the deepest sample inside it
+                from implicit import box
+
+                # bounds of the overlap itself (a & b's box can be far larger), two cells of margin
+                olo, ohi = overlap[0] - 2 * h, overlap[1] + 2 * h
+                tight = both & box(ohi - olo, center=0.5 * (olo + ohi))
+                cells = max(int(round(float(np.max(ohi - olo)) / h)), 8)
                 kw = {"tolerance": tolerance} if tolerance is not None else {"resolution": cells}
                 try:
-                    props = mass_properties(both, mesher=mesher, **kw)
+                    props = mass_properties(tight, mesher=mesher, min_wall=_overlap_wall(both, overlap, h),
+                                            **kw)
                 except ValueError:      # the extrapolation's coarse levels lost the overlap
                     props = None
                 if props is not None and props.volume > 0:
@@ -236,8 +251,40 @@ def interference(a, b, *, resolution: int | None = None, voxel_size: float | Non
         return Interference(True, False, float(volume), float(err), overlap, 0.0, 0.0, None, float(h))
     upper, lower, pts = clearance(a, b, h, mesher)
     touching = upper <= tol
+    possible = bool(not touching and lower <= 0.0)
+    if touching or possible:
+        # no volume seen, but one thinner than a cell is not excluded: bound it
+        err = max(float(err), _unresolved_volume(both, h))
     return Interference(False, bool(touching), float(max(volume, 0.0)), float(err), overlap if touching else None,
-                        0.0 if touching else upper, upper - lower, pts, float(h))
+                        0.0 if touching else upper, upper - lower, pts, float(h), possible)
+
+
+def _overlap_wall(both, overlap, h):
+    """Half the thickness of the overlap's thickest wall seen on samples of cell `h`
+    (twice the deepest value inside), capped by the tree's own estimate."""
+    from ..cells.thickness import min_feature_size
+
+    lo, hi = overlap
+    axes = [np.arange(lo[i], hi[i] + 0.5 * h, 0.5 * h) for i in range(3)]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    deepest = float(-np.min(both(grid))) if grid.size else 0.0
+    tree = min_feature_size(both)
+    # half of it: the coarsest level of the extrapolation then holds 2.4 cells
+    # across the wall, enough for its volume to be in the asymptotic range
+    return 0.5 * (min(tree, 2.0 * deepest) if deepest > 0 else min(tree, h))
+
+
+def _unresolved_volume(both, h):
+    """Volume of the cells of edge `h` the octree of ``a & b`` cannot prove
+    empty: any shared volume lies in them."""
+    from ..cells import EMPTY, Octree
+
+    lo, hi = both.bounds
+    if not np.all(lo < hi):
+        return 0.0
+    tree = Octree.from_solid(both, voxel_size=h, progress=False)
+    keep = tree.state != EMPTY
+    return float(np.sum(np.asarray(tree.size[keep], dtype=np.float64) ** 3))
 
 
 def _overlap_mesh(both, h, mesher):
@@ -314,6 +361,9 @@ class AssemblyReport:
         Pairs checked with `interference` (equal to `candidates`).
     interfering : list of (str, str, Interference)
     touching : list of (str, str, Interference)
+    possible_contact : list of (str, str, Interference)
+        Pairs whose overlap or contact is below the cell size: neither proven
+        nor excluded (see `Interference.possible_contact`).
     """
 
     parts: int
@@ -322,6 +372,7 @@ class AssemblyReport:
     full_checks: int
     interfering: list = field(default_factory=list)
     touching: list = field(default_factory=list)
+    possible_contact: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         """Plain-Python form for JSON."""
@@ -330,6 +381,7 @@ class AssemblyReport:
             "full_checks": self.full_checks,
             "interfering": [{"a": a, "b": b, **r.to_dict()} for a, b, r in self.interfering],
             "touching": [{"a": a, "b": b, **r.to_dict()} for a, b, r in self.touching],
+            "possible_contact": [{"a": a, "b": b, **r.to_dict()} for a, b, r in self.possible_contact],
         }
 
 
@@ -362,8 +414,15 @@ def check_assembly(parts: dict, *, resolution: int | None = None, voxel_size: fl
         _check_solid(parts[name], f"parts[{name!r}]")
     lo = np.array([parts[k].bounds[0] for k in names]).reshape(-1, 3)
     hi = np.array([parts[k].bounds[1] for k in names]).reshape(-1, 3)
-    pairs = box_pairs(lo, hi)
-    inter, touch = [], []
+    # boxes less than a cell apart are checked too: a gap below the cell
+    # size is a possible contact, not a clearance
+    if voxel_size is not None:
+        margin = float(voxel_size)
+    else:
+        n_cells = DEFAULT_RESOLUTION if resolution is None else resolution
+        margin = float(np.max(hi - lo, axis=1).max()) / max(int(n_cells), 1)
+    pairs = box_pairs(lo, hi, margin=margin)
+    inter, touch, maybe = [], [], []
     for i, j in pairs:  # one full check per candidate pair (each meshes a solid)
         r = interference(parts[names[i]], parts[names[j]], resolution=resolution, voxel_size=voxel_size,
                          mesher=mesher)
@@ -371,5 +430,7 @@ def check_assembly(parts: dict, *, resolution: int | None = None, voxel_size: fl
             inter.append((names[i], names[j], r))
         elif r.touching:
             touch.append((names[i], names[j], r))
+        elif r.possible_contact:
+            maybe.append((names[i], names[j], r))
     n = len(names)
-    return AssemblyReport(n, n * (n - 1) // 2, int(len(pairs)), int(len(pairs)), inter, touch)
+    return AssemblyReport(n, n * (n - 1) // 2, int(len(pairs)), int(len(pairs)), inter, touch, maybe)

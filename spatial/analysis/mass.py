@@ -37,7 +37,8 @@ def _kind(obj) -> str:
 
 def mass_properties(obj, *, density: float = 1.0, units: str = "m",
                     tolerance: float | None = None, voxel_size: float | None = None,
-                    resolution: int | None = None, solid=None, mesher=None) -> MassProperties:
+                    resolution: int | None = None, solid=None, mesher=None,
+                    min_wall: float | None = None) -> MassProperties:
     """Volume, mass, area, centroid and inertia of a solid, with error bounds.
 
     Parameters
@@ -63,6 +64,10 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
     mesher : callable, optional
         ``mesher(solid, h) -> PolyData``; default `spatial.meshing.mesh`
         (a progress bar on a terminal).
+    min_wall : float, optional
+        Solids only: the thinnest wall the meshes must hold (default
+        `spatial.cells.thickness.min_feature_size` of the tree); the
+        coarsest level gets at least 1.2 cells across it.
 
     Returns
     -------
@@ -111,10 +116,16 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
         sol = solid if solid is not None else getattr(obj, "solid", None)
         raw, h = _octree_raw(obj, sol)
         return _finish(raw, density, units, h, "octree (exact FULL cells, fractional BOUNDARY cells)")
-    return _solid_mass(obj, density, units, tolerance, voxel_size, resolution, mesher)
+    if min_wall is not None:
+        if kind != "solid":
+            raise ValueError(f"min_wall: only applies to a Solid; a {kind} is integrated as it is")
+        from implicit.solid import as_positive
+
+        min_wall = as_positive(min_wall, "min_wall")
+    return _solid_mass(obj, density, units, tolerance, voxel_size, resolution, mesher, min_wall)
 
 
-def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher):
+def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher, min_wall=None):
     if not solid.is_bounded:
         raise ValueError("solid: expected a bounded solid, got infinite bounds (intersect it with a box)")
     if solid.is_empty_bounds:
@@ -142,7 +153,7 @@ def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher
         tolerance = tol
     from .mass_solid import _solid_raw
 
-    raw, h, n, note = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher)
+    raw, h, n, note = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher, wall=min_wall)
     return _finish(raw, density, units, h, f"solid: corrected marching cubes at {n // 4}, {n // 2}, {n} "
                                            f"cells + Richardson{note}")
 

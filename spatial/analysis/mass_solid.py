@@ -179,7 +179,7 @@ def _kernels():
     return _KERNELS[0]
 
 
-def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None):
+def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None):
     """Richardson-extrapolated raw moments of a solid, with an error estimate.
 
     With `cells` fixed, meshes at ``cells/4``, ``cells/2`` and ``cells``.
@@ -202,7 +202,7 @@ def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None):
     lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
     extent = float(np.max(hi - lo))
     c0 = 0.5 * (lo + hi)
-    wall = min_feature_size(solid)
+    wall = min_feature_size(solid) if wall is None else float(wall)
     need = int(np.ceil(4 * WALL_CELLS * extent / wall))
     note = ""
     if need > MAX_WALL_CELLS:

@@ -40,6 +40,9 @@ def run(args) -> int:
             print(f"INTERFERE  {a} / {b}: shared volume {r.volume:.6g} +/- {r.volume_error:.2g}")
         for a, b, _ in report.touching:
             print(f"touch      {a} / {b}")
+        for a, b, r in report.possible_contact:
+            print(f"possible contact  {a} / {b}: no shared volume resolved at voxel size {r.voxel_size:.3g}; "
+                  f"clearance between 0 and {r.clearance:.3g}, shared volume at most {r.volume_error:.2g}")
         if not report.interfering:
-            print("no interference")
+            print("no interference resolved" if report.possible_contact else "no interference")
     return 1 if report.interfering else 0
