@@ -137,6 +137,47 @@ def _as_surface_list(surfaces):
     return [surface_from_dict(s, f"closed_surface[{i}]") for i, s in enumerate(surfaces)]
 
 
+#: Samples along each boundary curve of a patch in the closedness check.
+_EDGE_SAMPLES = 129
+
+
+def _boundary_curves(surfaces):
+    """The four boundary curves of every patch, sampled: a list of (n, 3)."""
+    curves = []
+    for s in surfaces:
+        (au, bu), (av, bv) = s.domain_u, s.domain_v
+        us = np.linspace(au, bu, _EDGE_SAMPLES)
+        vs = np.linspace(av, bv, _EDGE_SAMPLES)
+        curves += [s.grid(np.array([au]), vs)[0], s.grid(np.array([bu]), vs)[0],
+                   s.grid(us, np.array([av]))[:, 0], s.grid(us, np.array([bv]))[:, 0]]
+    return curves
+
+
+def _open_boundary(surfaces, size):
+    """Index of a boundary curve no other boundary covers (the surface is
+    open there), or -1.  A curve collapsed to a point (a pole) needs no
+    partner; a periodic seam is covered by the patch's opposite side."""
+    curves = _boundary_curves(surfaces)
+    tol = 2e-3 * size
+    for i, c in enumerate(curves):
+        if float(np.linalg.norm(np.diff(c, axis=0), axis=1).sum()) <= tol:
+            continue
+        others = [curves[j] for j in range(len(curves)) if j != i
+                  and float(np.linalg.norm(np.diff(curves[j], axis=0), axis=1).sum()) > tol]
+        if not others:
+            return i
+        a = np.concatenate([o[:-1] for o in others])
+        b = np.concatenate([o[1:] for o in others])
+        ab = b - a
+        ll = np.einsum("ij,ij->i", ab, ab)
+        t = np.einsum("kij,ij->ki", c[:, None, :] - a[None], ab) / np.where(ll > 0, ll, 1.0)
+        t = np.clip(t, 0.0, 1.0)
+        d = np.linalg.norm(c[:, None, :] - (a[None] + t[..., None] * ab[None]), axis=2).min(axis=1)
+        if float(d.max()) > tol:
+            return i
+    return -1
+
+
 class SurfaceSolid(Solid):
     """The solid bounded by a closed surface (one patch or several).
 
@@ -167,6 +208,13 @@ class SurfaceSolid(Solid):
         size = float(np.max(hi - lo))
         if not abs(vol) > 1e-9 * size ** 3:
             raise ValueError("closed_surface: the surface encloses no volume (is it closed?)")
+        # an open surface has no inside: its closest-point sign would call
+        # points outside the part inside, so it is refused
+        edge = _open_boundary(ss, size)
+        if edge >= 0:
+            side = ("u = start", "u = end", "v = start", "v = end")[edge % 4]
+            raise ValueError(f"closed_surface: the surface is open: the boundary {side} of patch {edge // 4} "
+                             "meets no other boundary (close it with more patches, e.g. end caps)")
         orient = 1.0 if vol > 0 else -1.0
         super().__init__((), {"surfaces": [surface_to_dict(s) for s in ss]}, (lo, hi), exact=True)
         object.__setattr__(self, "_surfaces", tuple(ss))

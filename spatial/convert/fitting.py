@@ -287,6 +287,14 @@ def loft_sections(solid, axis="z", levels=8, *, n_control=None, tolerance=None, 
         if lv.size < 2 or not np.all(np.diff(lv) > 0):
             raise ValueError("levels: expected at least 2 increasing positions")
     planes = [f"{axis}={x!r}" for x in lv.tolist()]
+    for pl in planes:
+        sec = section(s, pl, resolution=resolution)
+        outer = len(sec.loops) - sum(sec.holes)
+        if sum(sec.holes) or outer > 1:
+            what = f"{sum(sec.holes)} hole(s)" if sum(sec.holes) else f"{outer} separate loops"
+            raise ValueError(f"solid: the section {pl} has {what}; a loft skins one outer loop per level "
+                             "and would drop the rest silently (loft the parts separately, or fit the "
+                             "sections with fit_section_curve)")
     fits = [fit_section_curve(s, pl, n_control=n_control, tolerance=tolerance, degree=degree,
                               resolution=resolution) for pl in planes]
     counts = {f.n_control for f in fits}
@@ -323,7 +331,13 @@ def _default_center(solid):
     inside = pts[solid(pts) < 0]
     if inside.shape[0] == 0:
         raise ValueError("solid: no interior found to place the centre; pass center=")
-    return inside.mean(axis=0)
+    c = inside.mean(axis=0)
+    # the mean of a ring's (torus's) interior lies in its hole: no centre at all
+    if not solid(c[None])[0] < 0:
+        raise ValueError(f"center: the default centre {np.round(c, 9).tolist()} (the bounds' centre, then the "
+                         "mean of the interior samples) is outside the solid, which is then not star-shaped "
+                         "about it; pass center= a point inside from which every ray leaves the solid once")
+    return c
 
 
 def star_radii(solid, center, samples=(64, 33)):
