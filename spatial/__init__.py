@@ -20,9 +20,10 @@ This module re-exports the public names, so ``spatial.mesh``,
 
 from .cells import EMPTY, FULL, BOUNDARY, Octree, OccupancyGrid  # noqa: F401
 from .cells import mesh_to_solid, save_vdb, load_vdb  # noqa: F401
+from .cells import min_feature_size  # noqa: F401
 from .files import save_mesh, load_mesh  # noqa: F401
 from .meshing import mesh, feature_edges, FeatureCurves  # noqa: F401
-from .analysis import MassProperties, mass_properties  # noqa: F401
+from .analysis import MassProperties, ToleranceError, mass_properties  # noqa: F401
 from .analysis import Topology, ValidityReport, topology, check  # noqa: F401
 # (the functions `section` and `interference` stay in their modules, whose names they share)
 from .analysis import Section  # noqa: F401

@@ -22,8 +22,9 @@ from .lattice import (BOUNDARY, EMPTY, FULL, STATE_NAMES, CHILD_OFFSETS, Lattice
 from .octree import Octree  # noqa: F401
 from .grid import OccupancyGrid  # noqa: F401
 from .budget import check_mesh_memory, check_tet_memory, estimate_mesh_bytes  # noqa: F401
+from .thickness import min_feature_size  # noqa: F401
 from .vdb import VDB_HALF_WIDTH, import_openvdb, load_vdb, mesh_to_solid, save_vdb, vdb_metadata  # noqa: F401
 
 __all__ = ["BOUNDARY", "EMPTY", "FULL", "STATE_NAMES", "Lattice", "make_lattice", "descend", "Octree",
-           "OccupancyGrid", "check_dense_memory", "check_mesh_memory", "check_tet_memory", "estimate_mesh_bytes", "available_memory", "save_vdb", "load_vdb", "mesh_to_solid",
+           "OccupancyGrid", "check_dense_memory", "check_mesh_memory", "check_tet_memory", "estimate_mesh_bytes", "min_feature_size", "available_memory", "save_vdb", "load_vdb", "mesh_to_solid",
            "vdb_metadata", "import_openvdb"]
