@@ -36,9 +36,12 @@ the mesh is closed, 2-manifold and outward-oriented (scikit-image's
 solid lies inside the padded region.
 
 Samples exactly on the level (0.0, or within ``ZERO_NUDGE * h`` of it) are
-pushed off it keeping their sign (zero counts as outside), so a face lying
-exactly on a sample plane leaves no hole (scikit-image issue 8116) and no
-vertex sits on a lattice node.
+pushed off it keeping their sign, so a face lying exactly on a sample plane
+leaves no hole (scikit-image issue 8116) and no vertex sits on a lattice
+node.  A sample at 0 up to rounding (within ``ZERO_TIE * h``) is a tie,
+settled by the regularized solid (`arrays._settle_ties`): inside where the
+solid's material lies on every side (the face two touching solids share), so
+touching solids fuse and flush cuts leave no skin, and outside elsewhere.
 
 References
 ----------
@@ -53,7 +56,7 @@ import warnings
 
 import numpy as np
 
-from .arrays import CLASSIFY_CHUNK, DEFAULT_BLOCK, EVAL_CHUNK, empty_mesh
+from .arrays import CLASSIFY_CHUNK, DEFAULT_BLOCK, EVAL_CHUNK, ZERO_NUDGE, ZERO_TIE, empty_mesh
 from .blocks import check_block as _check_block
 from .cells import mesh_cells
 
@@ -137,12 +140,15 @@ def _boundary_cells_2h(lattice, progress):
     """
     solid, depth = lattice.solid, lattice.depth
     lip = float(solid.lipschitz)
+    # uniform cells must hold samples of one sign after the nudge, rounding included
+    margin = ZERO_NUDGE * lattice.voxel_size
     if not (np.isfinite(lip) and lip > 0) or depth < 3:
         result = descend(lattice, keep_leaves=False, stop_level=depth - 1, progress=progress,
-                         chunk=CLASSIFY_CHUNK)
+                         chunk=CLASSIFY_CHUNK, margin=margin)
         return dict(cells=result["boundary"], centres=None, uniform=None, uniform_parents=None, nodes=None,
                     evaluations=result["evaluations"])
-    result = descend(lattice, keep_leaves=False, stop_level=depth - 3, progress=progress, chunk=CLASSIFY_CHUNK)
+    result = descend(lattice, keep_leaves=False, stop_level=depth - 3, progress=progress, chunk=CLASSIFY_CHUNK,
+                     margin=margin)
     evaluations = result["evaluations"]
     h = lattice.voxel_size
     parents = result["boundary"]
@@ -163,7 +169,8 @@ def _boundary_cells_2h(lattice, progress):
             values[a:a + EVAL_CHUNK] = solid(lattice.origin + (size * children[a:a + EVAL_CHUNK] + size // 2) * h)
         evaluations += int(children.shape[0])
         # the default bound: |f(centre)| <= L * half-diagonal may hold boundary
-        keep = np.abs(values) <= lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12)
+        # (plus a tie's width: a uniform cell's nodes are never ties, see `_settle_ties`)
+        keep = np.abs(values) <= lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12) + 2 * ZERO_TIE * h
         flat = np.concatenate([children[~keep], beyond])
         signs = np.concatenate([np.where(values[~keep] < 0, -1, 1), np.ones(beyond.shape[0])]).astype(np.int8)
         uniform.append((flat.astype(np.int32), signs))
