@@ -61,6 +61,7 @@ from .blocks import check_block as _check_block
 from .cells import mesh_cells
 
 from ..cells.lattice import CHILD_OFFSETS, descend, make_lattice
+from ..cells.thickness import WALL_VOXELS, default_voxel_size, thinnest_wall
 
 __all__ = ["mesh"]
 
@@ -76,8 +77,12 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     voxel_size : float, optional
         Edge of the voxels (marching-cubes cells).
     resolution : int, optional
-        Voxels across the longest side of the bounds (exactly one of
-        `voxel_size` / `resolution`).
+        Voxels across the longest side of the bounds (at most one of
+        `voxel_size` / `resolution`).  With neither, the voxel comes from
+        the part's size and its thinnest wall
+        (`spatial.cells.thickness.default_voxel_size`: four voxels through
+        it).  A voxel coarser than half the thinnest wall the CSG tree knows
+        gets a warning naming the wall and a voxel size that keeps it.
     bounds : (lo, hi), optional
         Region to mesh; a solid sticking out of it is clipped to it (the mesh
         stays closed).
@@ -104,7 +109,14 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     True
     """
     block = _check_block(block)
+    if voxel_size is None and resolution is None:
+        from implicit import Solid
+
+        if not isinstance(solid, Solid):
+            raise TypeError(f"solid: expected an implicit.Solid, got {type(solid).__name__}")
+        voxel_size = default_voxel_size(solid, bounds)
     lattice = make_lattice(solid, voxel_size=voxel_size, resolution=resolution, bounds=bounds)
+    _warn_thin(lattice.solid, lattice.voxel_size)
     if lattice.empty:
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
@@ -116,6 +128,15 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
                       centre_values=found.pop("centres"), uniform_cells=found.pop("uniform"),
                       uniform_parents=found.pop("uniform_parents"),
                       node_values=found.pop("nodes"), _stacklevel=3)
+
+
+def _warn_thin(solid, h):
+    """One line when the voxel is coarser than half the thinnest wall of the tree (it may be lost)."""
+    t, what = thinnest_wall(solid)
+    if np.isfinite(t) and h > t / 2:
+        warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half the thinnest wall ({what}: {t:.4g}); "
+                      f"the wall may be lost; voxel_size={t / WALL_VOXELS:.4g} keeps it", RuntimeWarning,
+                      stacklevel=3)
 
 
 def _boundary_cells_2h(lattice, progress):
