@@ -23,7 +23,7 @@ from .cells import mesh_to_solid, save_vdb, load_vdb  # noqa: F401
 from .files import save_mesh, load_mesh  # noqa: F401
 from .meshing import mesh  # noqa: F401
 from .analysis import MassProperties, mass_properties  # noqa: F401
-from .analysis import Topology, ValidityReport, topology, check  # noqa: F401
+from .analysis import Topology, ValidityReport, topology, check, triangle_defects  # noqa: F401
 # (the functions `section` and `interference` stay in their modules, whose names they share)
 from .analysis import Section  # noqa: F401
 from .analysis import Interference, check_assembly  # noqa: F401

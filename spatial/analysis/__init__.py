@@ -15,11 +15,11 @@ Examples
 """
 
 from .mass import MassError, MassProperties, OpenMeshError, UNITS, mass_properties, mesh_moments  # noqa: F401
-from .validity import Topology, ValidityReport, check, topology  # noqa: F401
+from .validity import Topology, ValidityReport, check, topology, triangle_defects  # noqa: F401
 # (the functions `section` and `interference` stay in their modules, whose names they share)
 from .section import Section, parse_plane  # noqa: F401
 from .interference import Interference, box_pairs, check_assembly  # noqa: F401
 
 __all__ = ["MassProperties", "MassError", "OpenMeshError", "UNITS", "mass_properties", "mesh_moments", "Topology",
-           "ValidityReport", "check", "topology", "Section", "parse_plane", "Interference", "box_pairs",
+           "ValidityReport", "check", "topology", "triangle_defects", "Section", "parse_plane", "Interference", "box_pairs",
            "check_assembly"]
