@@ -55,10 +55,11 @@ def faces_array(mesh) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _nudge(values, h):
-    """Push samples within ``ZERO_NUDGE * h`` of 0 to that distance, keeping the sign (0 -> +)."""
+    """Push samples within ``ZERO_NUDGE * h`` of 0 to that distance, keeping the sign (0 -> +; NaN, a
+    field undefined there, -> + too: marching cubes needs a number at every node)."""
     eps = ZERO_NUDGE * h
     out = np.asarray(values, dtype=np.float64)
-    small = np.abs(out) < eps
+    small = ~(np.abs(out) >= eps)
     out[small] = np.where(out[small] < 0, -eps, eps)
     return out
 

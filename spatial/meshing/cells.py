@@ -168,6 +168,9 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         f1[inner] = -f0[inner]
         axis[inner] = 0
     t = f0 / (f0.astype(np.float64) - f1)
+    if not np.isfinite(t).all():  # never for ends of opposite signs; a guard against a field's NaN
+        t = np.nan_to_num(t, nan=0.5, posinf=1.0, neginf=0.0)
+        np.clip(t, 0.0, 1.0, out=t)
     if refine:
         free = ~_certified(f0, f1, h, lip)
         free[inner] = False
