@@ -128,3 +128,13 @@ def test_same_bits_in_a_fresh_process():
     here = hashlib.sha256(np.asarray(m.points).tobytes() + np.asarray(m.faces).tobytes()).hexdigest()
     there = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert here == there
+
+
+@pytest.mark.xfail(strict=True, reason="the shell's bounds miss part of its wall (1,324 of 200,000 probes "
+                   "beyond the bounds are inside): the mesh opens where the solid leaves its padded region")
+def test_fuzz_seed_3796_shell_outside_its_bounds_is_closed():
+    from fuzzgen import random_case
+
+    c = random_case(3796, resolutions=(16, 48), max_depth=5)
+    m = _mesh(c.solid, voxel_size=c.voxel_size)
+    assert mesh_failures(m, c.voxel_size) == []
