@@ -24,7 +24,7 @@ from .cells import min_feature_size  # noqa: F401
 from .files import save_mesh, load_mesh  # noqa: F401
 from .meshing import mesh, feature_edges, FeatureCurves  # noqa: F401
 from .analysis import MassProperties, ToleranceError, mass_properties  # noqa: F401
-from .analysis import Topology, ValidityReport, topology, check  # noqa: F401
+from .analysis import Topology, ValidityReport, topology, check, triangle_defects  # noqa: F401
 # (the functions `section` and `interference` stay in their modules, whose names they share)
 from .analysis import Section  # noqa: F401
 from .analysis import Interference, check_assembly  # noqa: F401

@@ -89,10 +89,10 @@ __all__ = [
     "PRUNE_MIN_POINTS",
 ]
 
-#: ``solid(points)`` compiles the interpreter (2-3 s, once per process) for a
-#: call of at least this many points.
+#: Calls of at least this many points were once needed to compile the interpreter; the fast path
+#: now starts at `CACHED_MIN_POINTS` in every process (kept for callers of the name).
 AUTO_MIN_POINTS = 100_000
-#: Once the interpreter is compiled, calls from this size take the fast path
+#: Calls from this size take the fast path
 #: (the tape beats numpy from a few hundred points).
 CACHED_MIN_POINTS = 2048
 #: Per-bin pruning (binning, bounds per bin) pays from about this size
@@ -283,14 +283,14 @@ def compile_solid(solid: Solid, *, parallel: bool = False, warm: bool = True) ->
 def fast_evaluate(solid: Solid, flat: np.ndarray):
     """The automatic fast path behind `Solid.__call__`, or None to use numpy.
 
-    A call takes the compiled path from `AUTO_MIN_POINTS` points (compiling
-    the interpreter on first use), or from `CACHED_MIN_POINTS` points once
-    the interpreter is compiled.
+    A call takes the compiled path from `CACHED_MIN_POINTS` points, loading
+    the interpreter (from numba's disk cache) on first use.  The choice
+    depends on the call alone, never on what the process ran before: numpy
+    and the tape may round differently, and the same solid must give the
+    same values -- and the same mesh -- in every process.
     """
     n = flat.shape[0]
     if n < CACHED_MIN_POINTS:
-        return None
-    if n < AUTO_MIN_POINTS and "serial" not in _KERNELS:
         return None
     compiled = compile_solid(solid, warm=False)
     if compiled.backend != "numba":

@@ -16,11 +16,12 @@ Examples
 
 from .mass import (MassError, MassProperties, OpenMeshError, ToleranceError, UNITS, mass_properties,  # noqa: F401
                    mesh_moments)
-from .validity import Topology, ValidityReport, check, topology  # noqa: F401
+from .validity import Topology, ValidityReport, check, topology, triangle_defects  # noqa: F401
 # (the functions `section` and `interference` stay in their modules, whose names they share)
 from .section import Section, parse_plane  # noqa: F401
 from .interference import Interference, box_pairs, check_assembly  # noqa: F401
 
-__all__ = ["MassProperties", "MassError", "OpenMeshError", "ToleranceError", "UNITS", "mass_properties", "mesh_moments", "Topology",
-           "ValidityReport", "check", "topology", "Section", "parse_plane", "Interference", "box_pairs",
+__all__ = ["MassProperties", "MassError", "OpenMeshError", "ToleranceError", "UNITS", "mass_properties", "mesh_moments",
+           "Topology", "ValidityReport", "check", "topology", "triangle_defects", "Section", "parse_plane", "Interference",
+           "box_pairs",
            "check_assembly"]

@@ -5,7 +5,10 @@ Euler characteristic and genus of every shell, and checks the
 Euler-Poincare law ``F - E + V - L = 2 (B - G)``; it finds open edges,
 non-manifold edges and vertices, and inconsistent orientation.  `check`
 turns a solid or mesh into a `ValidityReport`: finite, bounded, closed,
-manifold, oriented, one body, its genus, and flags for what is wrong.
+manifold, oriented, free of degenerate and duplicate triangles and of
+vertices at one position (`triangle_defects`), its bodies, shells and
+genus, and flags for what is wrong; several bodies are valid only when the
+caller checks an assembly-like solid.
 
 For a triangle mesh every face is bounded by exactly one loop, so the count
 of inner loops (rings) ``L`` of the Euler-Poincare law is 0 and the law
@@ -20,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Topology", "ValidityReport", "topology", "check"]
+__all__ = ["Topology", "ValidityReport", "topology", "triangle_defects", "check"]
 
 
 @dataclass(frozen=True)
@@ -209,10 +212,13 @@ class ValidityReport:
     Attributes
     ----------
     valid : bool
-        Finite, bounded, non-empty, closed, manifold, oriented outward, one body.
+        Finite, bounded, non-empty, closed, manifold, oriented outward, no
+        degenerate or duplicate triangles, no two vertices at one position,
+        and one body (or any number of bodies when `assembly`).
     finite, bounded, closed, manifold, oriented : bool
     bodies : int
-        Separate pieces of material.
+        Connected solids (shells enclosing positive volume; a cavity is not a
+        body).
     genus : int
         Through-holes (sum over shells).
     volume : float
@@ -222,6 +228,18 @@ class ValidityReport:
     flags : tuple of str
         One line per problem (``'isolated parts'``, ``'open shell'``,
         ``'infinite extent'``, ...).
+    shells : int
+        Boundary components: a body with a cavity has 2.
+    degenerate_triangles : int
+        Triangles of zero area or with a repeated vertex index.
+    duplicate_triangles : int
+        Triangles on the same three vertices as another.
+    duplicate_vertices : int
+        Vertices used by triangles at the position of another such vertex.
+    nonfinite_vertices : int
+        Vertices with a NaN or infinite coordinate.
+    assembly : bool
+        Checked as an assembly-like solid: several bodies are allowed.
     """
 
     valid: bool
@@ -235,6 +253,12 @@ class ValidityReport:
     volume: float
     topology: Topology | None = None
     flags: tuple = field(default_factory=tuple)
+    shells: int = 0
+    degenerate_triangles: int = 0
+    duplicate_triangles: int = 0
+    duplicate_vertices: int = 0
+    nonfinite_vertices: int = 0
+    assembly: bool = False
 
     def to_dict(self) -> dict:
         """Plain-Python form for JSON."""
@@ -246,34 +270,75 @@ class ValidityReport:
     def summary(self) -> str:
         """A short multi-line text report."""
         t = self.topology
-        lines = [f"valid:     {'yes' if self.valid else 'NO'}",
+        lines = [f"valid:     {'yes' if self.valid else 'NO'}{' (as an assembly)' if self.assembly else ''}",
                  f"finite:    {self.finite}", f"bounded:   {self.bounded}", f"closed:    {self.closed}",
                  f"manifold:  {self.manifold}", f"oriented:  {self.oriented}", f"bodies:    {self.bodies}",
-                 f"genus:     {self.genus}", f"volume:    {self.volume:.6g}"]
+                 f"shells:    {self.shells}", f"genus:     {self.genus}", f"volume:    {self.volume:.6g}",
+                 f"triangles: {self.degenerate_triangles} degenerate, {self.duplicate_triangles} duplicate; "
+                 f"vertices: {self.duplicate_vertices} at the same position, {self.nonfinite_vertices} not finite"]
         if t is not None:
             lhs, rhs = t.euler_poincare
             lines += [f"V, E, F:   {t.vertices}, {t.edges}, {t.faces}  (L = {t.loops} inner loops)",
-                      f"shells:    {t.shells}  (Euler characteristic {t.euler}; per shell {list(t.shell_euler)})",
+                      f"Euler:     {t.euler} (per shell {list(t.shell_euler)}; genus per shell {list(t.shell_genus)})",
                       f"Euler-Poincare F - E + V - L = {lhs}, 2(B - G) = {rhs}: "
                       f"{'holds' if t.euler_poincare_holds else 'FAILS'}"]
         lines += [f"problem:   {f}" for f in self.flags]
         return "\n".join(lines)
 
 
-def check(obj, *, resolution: int = 64, mesher=None) -> ValidityReport:
-    """Check that a solid or a mesh is a valid solid.
+def triangle_defects(mesh) -> dict:
+    """Degenerate and duplicate triangles, vertices at one position and non-finite vertices of a mesh.
+
+    Returns
+    -------
+    dict
+        ``degenerate`` (zero area -- below 1e-12 of the squared size of the
+        mesh -- or a repeated vertex index), ``duplicate`` (the same three
+        vertices as another triangle), ``duplicate_vertices`` (used vertices
+        at the position of another used vertex), ``nonfinite`` (vertices).
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> triangle_defects(pv.Sphere().triangulate().clean())["degenerate"]
+    0
+    """
+    points, tri = _triangles(mesh)
+    nonfinite = int(np.count_nonzero(~np.isfinite(points).all(axis=1)))
+    repeated = (tri[:, 0] == tri[:, 1]) | (tri[:, 1] == tri[:, 2]) | (tri[:, 0] == tri[:, 2])
+    with np.errstate(invalid="ignore", over="ignore"):
+        cross = np.cross(points[tri[:, 1]] - points[tri[:, 0]], points[tri[:, 2]] - points[tri[:, 0]])
+        area2 = np.sqrt((cross * cross).sum(axis=1))
+        used = np.unique(tri)
+        span = points[used]
+        span = span[np.isfinite(span).all(axis=1)]
+        size = float(np.max(span.max(axis=0) - span.min(axis=0))) if span.shape[0] else 0.0
+    zero = ~(area2 > 1e-12 * size * size)
+    duplicate = tri.shape[0] - np.unique(np.sort(tri, axis=1), axis=0).shape[0]
+    dup_vertices = used.size - np.unique(points[used], axis=0).shape[0]
+    return {"degenerate": int(np.count_nonzero(repeated | zero)), "duplicate": int(duplicate),
+            "duplicate_vertices": int(dup_vertices), "nonfinite": nonfinite}
+
+
+def check(obj, *, resolution=None, mesher=None, assembly=False) -> ValidityReport:
+    """Check that a solid or a mesh is a valid solid, and say what is wrong.
 
     A valid solid is finite (its field has no NaN or infinity), bounded,
     non-empty, and its boundary is a closed, 2-manifold, outward-oriented
-    surface of exactly one body (no isolated parts).
+    surface without degenerate or duplicate triangles or two vertices at one
+    position, of exactly one body (no isolated parts) -- or of any number of
+    bodies when `assembly` is set (an assembly-like solid).
 
     Parameters
     ----------
     obj : Solid or pyvista.PolyData
-    resolution : int
-        Cells across a solid's bounds for its boundary mesh.
+    resolution : int, optional
+        Cells across a solid's bounds for its boundary mesh (default: the
+        mesher's default voxel, from the part's size and its thinnest wall).
     mesher : callable, optional
         ``mesher(solid, h) -> PolyData``; default `spatial.meshing.mesh`.
+    assembly : bool
+        Several bodies are valid (they are reported all the same).
 
     Returns
     -------
@@ -284,17 +349,23 @@ def check(obj, *, resolution: int = 64, mesher=None) -> ValidityReport:
     >>> import pyvista as pv
     >>> check(pv.Sphere().triangulate().clean()).valid
     True
+    >>> two = pv.Sphere().triangulate().clean() + pv.Sphere(center=(3, 0, 0)).triangulate().clean()
+    >>> check(two).valid, check(two, assembly=True).valid
+    (False, True)
     """
     from implicit import Solid
 
-    if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 4:
+    if resolution is not None and (isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer))
+                                   or resolution < 4):
         raise ValueError(f"resolution: expected an integer of at least 4, got {resolution!r}")
+    assembly = bool(assembly)
     flags = []
     finite = bounded = True
     if isinstance(obj, Solid):
         lo, hi = obj.bounds
         if obj.is_empty_bounds:
-            return ValidityReport(False, True, True, False, False, False, 0, 0, 0.0, None, ("empty solid",))
+            return ValidityReport(False, True, True, False, False, False, 0, 0, 0.0, None, ("empty solid",),
+                                  assembly=assembly)
         bounded = obj.is_bounded
         if not bounded:
             flags.append("infinite extent: the solid's bounds are not finite (intersect it with a box)")
@@ -309,22 +380,29 @@ def check(obj, *, resolution: int = 64, mesher=None) -> ValidityReport:
         if not finite:
             flags.append("not finite: the field is NaN or infinite at some points")
         if not (bounded and finite):
-            return ValidityReport(False, finite, bounded, False, False, False, 0, 0, float("nan"), None, tuple(flags))
+            return ValidityReport(False, finite, bounded, False, False, False, 0, 0, float("nan"), None, tuple(flags),
+                                  assembly=assembly)
         if mesher is None:
             from .mass import _default_mesher
 
             mesher = _default_mesher()
-        h = float(np.max(hi - lo)) / resolution
+        if resolution is None:
+            from ..cells.thickness import default_voxel_size
+
+            h = default_voxel_size(obj)
+        else:
+            h = float(np.max(hi - lo)) / resolution
         mesh = mesher(obj, h)
         if mesh.n_cells == 0:
-            return ValidityReport(False, True, True, False, False, False, 0, 0, 0.0, None, ("empty solid",))
+            return ValidityReport(False, True, True, False, False, False, 0, 0, 0.0, None, ("empty solid",),
+                                  assembly=assembly)
     else:
         mesh = obj
-        pts = np.asarray(mesh.points)
-        finite = bool(np.all(np.isfinite(pts)))
-        if not finite:
-            flags.append("not finite: the mesh has NaN or infinite coordinates")
-            return ValidityReport(False, False, False, False, False, False, 0, 0, float("nan"), None, tuple(flags))
+    defects = triangle_defects(mesh)
+    if defects["nonfinite"]:
+        flags.append(f"not finite: {defects['nonfinite']} vertices have NaN or infinite coordinates")
+        return ValidityReport(False, False, False, False, False, False, 0, 0, float("nan"), None, tuple(flags),
+                              nonfinite_vertices=defects["nonfinite"], assembly=assembly)
     t = topology(mesh)
     if not t.closed:
         flags.append(f"open shell: {t.open_edges} edges bound only one face")
@@ -335,8 +413,19 @@ def check(obj, *, resolution: int = 64, mesher=None) -> ValidityReport:
         flags.append("inconsistent orientation: some edges are used twice in the same direction")
     if t.signed_volume <= 0:
         flags.append("inside out: the enclosed volume is not positive")
-    if t.bodies > 1:
-        flags.append(f"isolated parts: {t.bodies} separate bodies")
-    valid = finite and bounded and t.closed and t.manifold and t.oriented and t.signed_volume > 0 and t.bodies == 1
+    if defects["degenerate"]:
+        flags.append(f"degenerate triangles: {defects['degenerate']} of zero area or with a repeated vertex")
+    if defects["duplicate"]:
+        flags.append(f"duplicate triangles: {defects['duplicate']} on the same vertices as another")
+    if defects["duplicate_vertices"]:
+        flags.append(f"duplicate vertices: {defects['duplicate_vertices']} at the position of another")
+    if t.bodies > 1 and not assembly:
+        flags.append(f"isolated parts: {t.bodies} separate bodies (check as an assembly to allow them)")
+    clean = not (defects["degenerate"] or defects["duplicate"] or defects["duplicate_vertices"])
+    one = t.bodies == 1 or (assembly and t.bodies >= 1)
+    valid = finite and bounded and t.closed and t.manifold and t.oriented and t.signed_volume > 0 and clean and one
     return ValidityReport(bool(valid), finite, bounded, t.closed, t.manifold, t.oriented, t.bodies,
-                          t.genus, t.signed_volume, t, tuple(flags))
+                          t.genus, t.signed_volume, t, tuple(flags), shells=t.shells,
+                          degenerate_triangles=defects["degenerate"], duplicate_triangles=defects["duplicate"],
+                          duplicate_vertices=defects["duplicate_vertices"], nonfinite_vertices=0,
+                          assembly=assembly)

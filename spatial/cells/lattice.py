@@ -193,7 +193,7 @@ def make_lattice(solid, *, voxel_size=None, resolution=None, bounds=None, max_de
 # classification, level by level
 # ---------------------------------------------------------------------------
 
-def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=None, chunk=None):
+def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=None, chunk=None, margin=0.0):
     """Classify the lattice's octree top-down.
 
     Parameters
@@ -209,6 +209,12 @@ def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=Non
     chunk : int, optional
         Bound at most this many boxes per `value_bounds` call (default: one
         call per level).
+    margin : float
+        A cell is EMPTY only when ``vmin > margin`` and FULL only when ``vmax
+        < -margin``: a mesher that pushes samples within `margin` of the level
+        off it needs uniform cells whose samples keep one sign under the
+        rounding of a point evaluation (a face lying on a lattice plane gives
+        ``vmin`` of 1e-17 and samples of -1e-17).
 
     Returns
     -------
@@ -248,8 +254,8 @@ def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=Non
             evaluations += m
             classified.append(m + out_cells.shape[0])
             state = np.full(m, BOUNDARY, dtype=np.uint8)
-            state[vmin > 0] = EMPTY
-            state[vmax < 0] = FULL
+            state[vmin > margin] = EMPTY
+            state[vmax < -margin] = FULL
             is_b = state == BOUNDARY
             if keep_leaves:
                 done = ~is_b if level < stop else np.ones_like(is_b)

@@ -13,15 +13,19 @@ NAME = "check"
 HELP = "check that a model is a valid solid (exit 1 if not)"
 DESCRIPTION = (
     "Check a model (or a mesh file) for validity: finite field, bounded, boundary closed, "
-    "2-manifold and outward-oriented, one body (no isolated parts); report genus and the "
+    "2-manifold and outward-oriented, no degenerate or duplicate triangles, one body (no isolated "
+    "parts; any number with --assembly); report bodies, shells, genus and the "
     "Euler-Poincare law F - E + V - L = 2(B - G). Exit status 1 when the solid is not valid."
 )
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("model", metavar="MODEL", help="model file (.py or .json) or mesh file (.stl, .ply, ...)")
-    parser.add_argument("--resolution", type=int, default=64, metavar="N",
-                        help="cells across the model for its boundary mesh (default 64)")
+    parser.add_argument("--resolution", type=int, default=None, metavar="N",
+                        help="cells across the model for its boundary mesh (default: from its size and "
+                             "thinnest wall)")
+    parser.add_argument("--assembly", action="store_true",
+                        help="an assembly-like solid: several bodies are valid")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -30,7 +34,7 @@ def run(args) -> int:
     from .mass import load_target
 
     target = load_target(args.model)
-    report = check(target, resolution=args.resolution)
+    report = check(target, resolution=args.resolution, assembly=args.assembly)
     if args.json:
         print(json.dumps(report.to_dict(), indent=2))
     else:

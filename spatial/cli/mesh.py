@@ -3,28 +3,34 @@
 The output format follows the extension (STL binary, PLY, OBJ, VTP, VTK); an
 unknown one is refused before any work.  A progress bar shows on a terminal;
 the command ends with one summary line: triangles, vertices, watertight,
-seconds and distance evaluations.
+seconds and distance evaluations.  Warnings (a voxel coarser than the
+thinnest wall) take one line each on stderr; an empty mesh is not written
+(exit 1).
 """
 
 from __future__ import annotations
 
+import sys
 import time
+import warnings
 
 NAME = "mesh"
 HELP = "write a watertight boundary mesh (STL, PLY, OBJ, VTP, VTK) of a model"
 DESCRIPTION = (
     "Mesh a model's boundary with marching cubes over the octree's boundary cells and write it; "
     "the format follows the output's extension (.stl binary, .ply, .obj, .vtp, .vtk). "
-    "Give the cell size with --voxel-size or the cells across the part with --resolution."
+    "Give the cell size with --voxel-size or the cells across the part with --resolution; with neither, "
+    "the cell size comes from the part's size and its thinnest wall (four cells through it)."
 )
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("model", metavar="MODEL", help="model file (.py defining `solid`, or .json)")
     parser.add_argument("-o", "--output", required=True, metavar="FILE", help="mesh file to write")
-    size = parser.add_mutually_exclusive_group(required=True)
+    size = parser.add_mutually_exclusive_group()
     size.add_argument("--voxel-size", type=float, metavar="H", help="edge of the finest cells")
-    size.add_argument("--resolution", type=int, metavar="N", help="finest cells across the longest side")
+    size.add_argument("--resolution", type=int, metavar="N",
+                      help="finest cells across the longest side (default: from the size and the thinnest wall)")
     parser.add_argument("--bounds", type=float, nargs=6, metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
                         help="region to mesh (needed for unbounded models)")
     parser.add_argument("--no-refine", action="store_true", help="keep interpolated vertices (no projection)")
@@ -50,8 +56,18 @@ def run(args) -> int:
         bounds = (args.bounds[:3], args.bounds[3:])
     solid = _load(args.model)
     t0 = time.perf_counter()
-    surface = mesh(solid, voxel_size=args.voxel_size, resolution=args.resolution, bounds=bounds,
-                   refine=not args.no_refine, progress=args.progress)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        surface = mesh(solid, voxel_size=args.voxel_size, resolution=args.resolution, bounds=bounds,
+                       refine=not args.no_refine, progress=args.progress)
+    for w in caught:  # one line each, without the source line Python would add
+        print(f"implicad: warning: {str(w.message).splitlines()[0]}", file=sys.stderr)
+    if surface.n_cells == 0:
+        # nothing to write: said in one line (a mesh writer would print its own errors)
+        h = float(surface.field_data["voxel_size"][0]) if "voxel_size" in surface.field_data else 0.0
+        print(f"implicad: error: the mesh is empty at voxel size {h:.4g} (no boundary found); "
+              "nothing written", file=sys.stderr)
+        return 1
     save_mesh(surface, args.output)
     seconds = time.perf_counter() - t0
     evaluations = int(surface.field_data["evaluations"][0]) if "evaluations" in surface.field_data else 0

@@ -9,6 +9,9 @@ __all__ = ["ZERO_NUDGE", "DEFAULT_BLOCK", "REFINE_STEPS", "REFINE_TOL", "REFINE_
 
 #: Samples closer to the level than ``ZERO_NUDGE * h`` are pushed to that distance (sign kept, 0 -> +).
 ZERO_NUDGE = 1e-3
+#: Samples within ``ZERO_TIE * h`` of 0 are ties (0 up to rounding), settled by the regularized solid
+#: (`_settle_ties`); far above the rounding of an evaluation, far below ``ZERO_NUDGE``.
+ZERO_TIE = 1e-7
 #: Voxels per side of a meshing block.
 DEFAULT_BLOCK = 32
 #: At most this many regula-falsi steps move vertices onto the surface along their edge.
@@ -52,12 +55,50 @@ def faces_array(mesh) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _nudge(values, h):
-    """Push samples within ``ZERO_NUDGE * h`` of 0 to that distance, keeping the sign (0 -> +)."""
+    """Push samples within ``ZERO_NUDGE * h`` of 0 to that distance, keeping the sign (0 -> +; NaN, a
+    field undefined there, -> + too: marching cubes needs a number at every node)."""
     eps = ZERO_NUDGE * h
     out = np.asarray(values, dtype=np.float64)
-    small = np.abs(out) < eps
+    small = ~(np.abs(out) >= eps)
     out[small] = np.where(out[small] < 0, -eps, eps)
     return out
+
+
+_SIX = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
+
+
+def _settle_ties(solid, pts, values, h):
+    """Decide samples at 0 (up to rounding) by the regularized solid, in place; returns evaluations.
+
+    A CSG fold is exactly 0 where the solid's set is not regular: ``min(a,
+    b)`` on the face two solids share, ``max(a, -b)`` on the face a
+    difference cuts flush.  Requicha's regularized set is the closure of the
+    interior, so such a point belongs to the solid exactly when no point
+    close by is strictly outside.  A tie is probed at ``ZERO_NUDGE * h``
+    along the six axis directions: outside (pushed to ``+ZERO_NUDGE * h``)
+    when one probe is above ``ZERO_TIE * h``, inside (``-ZERO_NUDGE * h``)
+    otherwise.  A face of the solid lying on a lattice plane is outside, as
+    before; a face two solids share is inside, so a boss standing on its
+    plate is one body; a flush cut leaves no skin.  The probes follow the
+    lattice's axes, so the same tie gets the same answer in every block.
+    Ties on the faces of the solid's bounds are outside without probes.
+    """
+    tie = np.flatnonzero(np.abs(values) <= ZERO_TIE * h)
+    if tie.size == 0:
+        return 0
+    # a tie on (or beyond) the faces of the solid's bounds is no interior point: outside, unprobed
+    # (the common case: the lattice starts one voxel below the bounds, so a box's faces are ties)
+    lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
+    near_face = ((pts[tie] <= lo + ZERO_TIE * h) | (pts[tie] >= hi - ZERO_TIE * h)).any(axis=1)
+    values[tie[near_face]] = ZERO_NUDGE * h
+    tie = tie[~near_face]
+    if tie.size == 0:
+        return 0
+    probe = (pts[tie][:, None, :] + (ZERO_NUDGE * h) * _SIX).reshape(-1, 3)
+    near = _evaluate(solid, probe).reshape(-1, 6)
+    outside = (near > ZERO_TIE * h).any(axis=1) | np.isnan(near).any(axis=1)
+    values[tie] = np.where(outside, ZERO_NUDGE * h, -ZERO_NUDGE * h)
+    return int(probe.shape[0])
 
 
 def _evaluate(solid, pts, chunk=EVAL_CHUNK):

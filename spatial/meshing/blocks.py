@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["mesh_block", "merge_blocks", "check_block"]
+__all__ = ["mesh_block", "merge_blocks", "check_block", "INTERIOR"]
 
 
 def check_block(block):
@@ -31,7 +31,8 @@ def mesh_block(values, mask):
     node : (v, 3) int64
         Local lower node of each vertex's edge.
     axis : (v,) int64
-        Direction of the edge (0, 1, 2).
+        Direction of the edge (0, 1, 2), or `INTERIOR` (3) for a vertex
+        inside a cube (`node` is then the cube's lower node).
     f0, f1 : (v,) float32
         Samples at the edge's two ends (opposite signs).
     faces : (f, 3) int32
@@ -56,7 +57,8 @@ def mesh_block(values, mask):
     node = node.astype(np.int64)
     f0 = values[node[:, 0], node[:, 1], node[:, 2]]
     upper = node.copy()
-    upper[np.arange(node.shape[0]), axis] += 1
+    on_edge = np.flatnonzero(axis != INTERIOR)
+    upper[on_edge, axis[on_edge]] += 1
     f1 = values[upper[:, 0], upper[:, 1], upper[:, 2]]
     return node, axis.astype(np.int64), f0, f1, faces.astype(np.int32)
 
@@ -74,17 +76,32 @@ def _marching_cubes(values, mask):
     return verts, faces
 
 
+#: Axis code of a vertex inside a cube rather than on a lattice edge (see `_edges_of`).
+INTERIOR = 3
+
+
 def _edges_of(verts):
     """Lower node (int32) and axis of the lattice edge each vertex lies on.
 
-    Marching cubes puts every vertex strictly inside an edge (no sample is 0):
-    two coordinates are integers, the third is the fractional one.
+    Marching cubes puts nearly every vertex strictly inside an edge (no sample
+    is 0): two coordinates are integers, the third is the fractional one.
+    Lewiner's topology-preserving cases (7, 10, 12 and 13 of its table) add
+    one vertex inside the cube instead, at no lattice edge: it gets axis
+    `INTERIOR` and the cube's lower node, belongs to that cube alone (never
+    merged with another block's vertex) and is placed later, at the mean of
+    its neighbours.  (Rounding it onto an edge gave it the id of a true edge
+    vertex: zero-area triangles, and non-manifold edges where blocks meet.)
     """
     rounded = np.rint(verts)
+    off = verts != rounded  # integer coordinates are exact in float32
     axis = np.argmax(np.abs(verts - rounded), axis=1)
     node = rounded.astype(np.int32)
     rows = np.arange(verts.shape[0])
     node[rows, axis] = np.floor(verts[rows, axis])
+    inner = np.count_nonzero(off, axis=1) > 1
+    if inner.any():
+        node[inner] = np.floor(verts[inner])
+        axis[inner] = INTERIOR
     return node, axis
 
 

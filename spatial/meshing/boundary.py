@@ -36,9 +36,12 @@ the mesh is closed, 2-manifold and outward-oriented (scikit-image's
 solid lies inside the padded region.
 
 Samples exactly on the level (0.0, or within ``ZERO_NUDGE * h`` of it) are
-pushed off it keeping their sign (zero counts as outside), so a face lying
-exactly on a sample plane leaves no hole (scikit-image issue 8116) and no
-vertex sits on a lattice node.
+pushed off it keeping their sign, so a face lying exactly on a sample plane
+leaves no hole (scikit-image issue 8116) and no vertex sits on a lattice
+node.  A sample at 0 up to rounding (within ``ZERO_TIE * h``) is a tie,
+settled by the regularized solid (`arrays._settle_ties`): inside where the
+solid's material lies on every side (the face two touching solids share), so
+touching solids fuse and flush cuts leave no skin, and outside elsewhere.
 
 References
 ----------
@@ -53,12 +56,13 @@ import warnings
 
 import numpy as np
 
-from .arrays import CLASSIFY_CHUNK, DEFAULT_BLOCK, EVAL_CHUNK, empty_mesh
+from .arrays import CLASSIFY_CHUNK, DEFAULT_BLOCK, EVAL_CHUNK, ZERO_NUDGE, ZERO_TIE, empty_mesh
 from .blocks import check_block as _check_block
 from .cells import mesh_cells
 
 from ..cells.budget import check_mesh_memory
 from ..cells.lattice import CHILD_OFFSETS, descend, make_lattice
+from ..cells.thickness import WALL_VOXELS, default_voxel_size, thinnest_wall
 
 __all__ = ["mesh"]
 
@@ -74,8 +78,12 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     voxel_size : float, optional
         Edge of the voxels (marching-cubes cells).
     resolution : int, optional
-        Voxels across the longest side of the bounds (exactly one of
-        `voxel_size` / `resolution`).
+        Voxels across the longest side of the bounds (at most one of
+        `voxel_size` / `resolution`).  With neither, the voxel comes from
+        the part's size and its thinnest wall
+        (`spatial.cells.thickness.default_voxel_size`: four voxels through
+        it).  A voxel coarser than half the thinnest wall the CSG tree knows
+        gets a warning naming the wall and a voxel size that keeps it.
     bounds : (lo, hi), optional
         Region to mesh; a solid sticking out of it is clipped to it (the mesh
         stays closed).
@@ -109,7 +117,14 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     block = _check_block(block)
     if not isinstance(features, (bool, np.bool_)):
         raise TypeError(f"features: expected True or False, got {features!r}")
+    if voxel_size is None and resolution is None:
+        from implicit import Solid
+
+        if not isinstance(solid, Solid):
+            raise TypeError(f"solid: expected an implicit.Solid, got {type(solid).__name__}")
+        voxel_size = default_voxel_size(solid, bounds)
     lattice = make_lattice(solid, voxel_size=voxel_size, resolution=resolution, bounds=bounds)
+    _warn_thin(lattice.solid, lattice.voxel_size)
     if lattice.empty:
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
@@ -122,6 +137,15 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
                       centre_values=found.pop("centres"), uniform_cells=found.pop("uniform"),
                       uniform_parents=found.pop("uniform_parents"),
                       node_values=found.pop("nodes"), features=bool(features), _stacklevel=3)
+
+
+def _warn_thin(solid, h):
+    """One line when the voxel is coarser than half the thinnest wall of the tree (it may be lost)."""
+    t, what = thinnest_wall(solid)
+    if np.isfinite(t) and h > t / 2:
+        warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half the thinnest wall ({what}: {t:.4g}); "
+                      f"the wall may be lost; voxel_size={t / WALL_VOXELS:.4g} keeps it", RuntimeWarning,
+                      stacklevel=3)
 
 
 def _boundary_cells_2h(lattice, progress):
@@ -146,12 +170,15 @@ def _boundary_cells_2h(lattice, progress):
     """
     solid, depth = lattice.solid, lattice.depth
     lip = float(solid.lipschitz)
+    # uniform cells must hold samples of one sign after the nudge, rounding included
+    margin = ZERO_NUDGE * lattice.voxel_size
     if not (np.isfinite(lip) and lip > 0) or depth < 3:
         result = descend(lattice, keep_leaves=False, stop_level=depth - 1, progress=progress,
-                         chunk=CLASSIFY_CHUNK)
+                         chunk=CLASSIFY_CHUNK, margin=margin)
         return dict(cells=result["boundary"], centres=None, uniform=None, uniform_parents=None, nodes=None,
                     evaluations=result["evaluations"])
-    result = descend(lattice, keep_leaves=False, stop_level=depth - 3, progress=progress, chunk=CLASSIFY_CHUNK)
+    result = descend(lattice, keep_leaves=False, stop_level=depth - 3, progress=progress, chunk=CLASSIFY_CHUNK,
+                     margin=margin)
     evaluations = result["evaluations"]
     h = lattice.voxel_size
     parents = result["boundary"]
@@ -172,7 +199,8 @@ def _boundary_cells_2h(lattice, progress):
             values[a:a + EVAL_CHUNK] = solid(lattice.origin + (size * children[a:a + EVAL_CHUNK] + size // 2) * h)
         evaluations += int(children.shape[0])
         # the default bound: |f(centre)| <= L * half-diagonal may hold boundary
-        keep = np.abs(values) <= lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12)
+        # (plus a tie's width: a uniform cell's nodes are never ties, see `_settle_ties`)
+        keep = np.abs(values) <= lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12) + 2 * ZERO_TIE * h
         flat = np.concatenate([children[~keep], beyond])
         signs = np.concatenate([np.where(values[~keep] < 0, -1, 1), np.ones(beyond.shape[0])]).astype(np.int8)
         uniform.append((flat.astype(np.int32), signs))

@@ -8,8 +8,8 @@ import warnings
 import numpy as np
 
 from ..files.progress import progress_bar
-from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _stable_order, empty_mesh
-from .blocks import check_block as _check_block, merge_blocks
+from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _settle_ties, _stable_order, empty_mesh
+from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharpen
 from .refine import _certified, _refine_on_edges
 from .slab import _SlabJob
@@ -100,7 +100,10 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     uniform_x, parents_x, known_x = (None if p is None else np.ascontiguousarray(p[0][:, 0])
                                      for p in (uniform, parents, known))
     if known is not None:
-        known = (known[0], _nudge(known[1], h).astype(np.float32))
+        kv = np.array(known[1], dtype=np.float64)
+        evaluations += _settle_ties(solid, origin + known[0] * h, kv, h)
+        known = (known[0], _nudge(kv, h).astype(np.float32))
+        del kv
     del uniform_cells, uniform_parents, node_values
     centre_infer = usable and centre_values is not None
     # cells grouped in slabs of `block` voxels along x
@@ -108,7 +111,9 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     order = _stable_order(slab_of)
     cells, slab_of = cells[order], slab_of[order]
     if centre_values is not None:
-        centre_values = _nudge(centre_values[order], h).astype(np.float32)
+        centre_values = centre_values[order]
+        evaluations += _settle_ties(solid, origin + (c * cells + c // 2) * h, centre_values, h)
+        centre_values = _nudge(centre_values, h).astype(np.float32)
     del order
     slab_starts = np.flatnonzero(np.r_[True, slab_of[1:] != slab_of[:-1]])
     slab_ends = np.r_[slab_starts[1:], cells.shape[0]]
@@ -158,9 +163,20 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     # (ordered to keep few vertex-sized arrays alive at once: this is the peak of memory)
     nodes, axis, f0, f1 = data
     del data
+    inner = np.flatnonzero(axis == INTERIOR)
+    if inner.size:
+        # a vertex inside a cube: on no edge, placed at the mean of its neighbours below
+        f1[inner] = -f0[inner]
+        axis[inner] = 0
     t = f0 / (f0.astype(np.float64) - f1)
+    if not np.isfinite(t).all():  # never for ends of opposite signs; a guard against a field's NaN
+        t = np.nan_to_num(t, nan=0.5, posinf=1.0, neginf=0.0)
+        np.clip(t, 0.0, 1.0, out=t)
     if refine:
-        rows = np.flatnonzero(~_certified(f0, f1, h, lip)).astype(np.int32)
+        free = ~_certified(f0, f1, h, lip)
+        free[inner] = False
+        rows = np.flatnonzero(free).astype(np.int32)
+        del free
         spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows)
         evaluations += spent
         del rows
@@ -176,6 +192,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     along += axis
     p0.reshape(-1)[along] += t
     del t, axis, along
+    if inner.size:
+        _centre_inner(p0, faces, inner)
     if features:
         sharp = sharpen(solid, p0, faces, origin, h)
         p0, faces = sharp["points"], sharp["faces"]
@@ -191,6 +209,24 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     out.field_data["blocks"] = np.array([n_blocks], dtype=np.int64)
     out.field_data["seconds"] = np.array([time.perf_counter() - t0])
     return out
+
+
+def _centre_inner(points, faces, inner):
+    """Put the vertices `inner` (inside a cube, on no edge) at the mean of their neighbours, in place.
+
+    Lewiner's extra vertex joins only vertices on the edges of its own cube,
+    so the mean lies inside that cube, as marching cubes put it.
+    """
+    slot = np.full(points.shape[0], -1, dtype=np.int64)
+    slot[inner] = np.arange(inner.size)
+    where = slot[faces]
+    f_row, corner = np.nonzero(where >= 0)
+    at = where[f_row, corner]
+    total = np.zeros((inner.size, 3))
+    for step in (1, 2):
+        np.add.at(total, at, points[faces[f_row, (corner + step) % 3]])
+    count = np.bincount(at, minlength=inner.size).astype(np.float64) * 2
+    points[inner] = total / np.maximum(count, 1)[:, None]
 
 
 def _by_x(pair, name, what, index_type, value_type, cell_size):

@@ -275,6 +275,14 @@ def sharpen(solid, points, faces, origin, h):
     lab = labels[fan_cells]
     lab[np.arange(3)[None, :] >= np.maximum(rank[fan_cells], n_faces[fan_cells])[:, None]] = -1
     ffacets[n:] = lab
+    # A vertex inside a cell's polygon (marching cubes' extra vertex of an ambiguous cube) is no
+    # corner of the fan that replaced the cell's triangles: drop the vertices no triangle uses.
+    used = np.zeros(newp.shape[0], bool)
+    used[out_faces.reshape(-1)] = True
+    if not used.all():
+        renumber = np.cumsum(used) - 1
+        out_faces = renumber[out_faces].astype(out_faces.dtype)
+        newp, frank, ffacets = newp[used], frank[used], ffacets[used]
     return dict(points=newp, faces=out_faces, feature_rank=frank, feature_facets=ffacets,
                 facet_names=list(ff.names), feature_cells=int(fan_cells.shape[0]))
 

@@ -6,8 +6,8 @@ import functools
 
 import numpy as np
 
-from .arrays import _evaluate, _nudge, _repeat2
-from .blocks import _edges_of, _marching_cubes
+from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
+from .blocks import INTERIOR, _edges_of, _marching_cubes
 
 __all__ = []
 
@@ -229,9 +229,13 @@ class _SlabJob:
             pts[:, 1] = self.origin[1] + y_ * h
             pts[:, 2] = self.origin[2] + z_ * h
             del x_, y_, z_
-            vals = _nudge(_evaluate(self.solid, pts), h).astype(np.float32) if pick.shape[0] else np.empty(0, np.float32)
+            if not pick.shape[0]:
+                return np.empty(0, np.float32), np.empty(0, np.float32), 0
+            vals = _evaluate(self.solid, pts)
+            probes = _settle_ties(self.solid, pts, vals, h)
+            vals = _nudge(vals, h).astype(np.float32)
             k = int(np.count_nonzero(sel_single))
-            return vals[:k], vals[k:], int(pick.shape[0])
+            return vals[:k], vals[k:], int(pick.shape[0]) + probes
 
         # -- pass 1: nodes of unknown sign ---------------------------------------------------
         t1 = single & (s_n == 0)
@@ -290,11 +294,13 @@ class _SlabJob:
             n1 = B + 1
             end = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
             f0 = values[end]
-            end += np.array([n1 * n1, n1, 1], dtype=np.int64)[axis]
+            end += np.array([n1 * n1, n1, 1, 0], dtype=np.int64)[axis]
             f1 = values[end]
             del end
-            # a vertex on an edge lying in a block face may be another block's too
+            # a vertex on an edge lying in a block face may be another block's too (one inside a
+            # cube never is)
             shared = (((node == 0) | (node == B)) & (axis[:, None] != np.arange(3))).any(axis=1)
+            shared &= axis != INTERIOR
             node[:, 0] += x0
             node[:, 1] += (self.bys[vblk] * B).astype(np.int32)
             node[:, 2] += (self.bzs[vblk] * B).astype(np.int32)

@@ -4,11 +4,13 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
 
-from implicit import box, cylinder, halfspace, sphere, torus
+from implicit import box, halfspace, sphere, torus
 from implicit.solid import Solid
 from spatial import BOUNDARY, EMPTY, FULL, OccupancyGrid, Octree
+
+from solid_strategies import solids
 
 
 def test_states_are_the_agreed_constants():
@@ -84,31 +86,6 @@ def test_boundary_cells_grow_with_the_surface():
     counts = [int(np.sum(Octree.from_solid(sphere(1.0), resolution=n).state == BOUNDARY)) for n in (16, 32, 64)]
     assert 3.3 < counts[1] / counts[0] < 4.7
     assert 3.5 < counts[2] / counts[1] < 4.5
-
-
-def _random_solid(draw):
-    kind = draw(st.sampled_from(["sphere", "box", "torus", "cylinder"]))
-    c = np.array([draw(st.floats(-0.3, 0.3)) for _ in range(3)])
-    if kind == "sphere":
-        s = sphere(draw(st.floats(0.3, 1.0)), center=c)
-    elif kind == "box":
-        s = box([draw(st.floats(0.3, 1.5)) for _ in range(3)], center=c)
-    elif kind == "torus":
-        s = torus(draw(st.floats(0.5, 0.9)), draw(st.floats(0.1, 0.4))).translate(c)
-    else:
-        s = cylinder(draw(st.floats(0.2, 0.6)), draw(st.floats(0.5, 1.5)),
-                     axis=[draw(st.floats(-1, 1)), draw(st.floats(-1, 1)), 1.0]).translate(c)
-    return s
-
-
-@st.composite
-def solids(draw):
-    a = _random_solid(draw)
-    op = draw(st.sampled_from(["none", "union", "difference", "intersection"]))
-    if op == "none":
-        return a
-    b = _random_solid(draw)
-    return {"union": a | b, "difference": a - b, "intersection": a & (b | sphere(0.2))}[op]
 
 
 @settings(derandomize=True, max_examples=25, deadline=None)

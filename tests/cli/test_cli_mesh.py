@@ -56,9 +56,11 @@ def test_unknown_extension_refused_before_loading(tmp_path, capsys):
     assert sorted(os.listdir(tmp_path)) == ["boom.py"]
 
 
-def test_needs_exactly_one_size(tmp_path, model):
-    with pytest.raises(SystemExit) as exc:
-        main(["mesh", str(model), "-o", str(tmp_path / "a.stl")])
-    assert exc.value.code == 2
+def test_needs_at_most_one_size(tmp_path, model):
     with pytest.raises(SystemExit):
         main(["mesh", str(model), "-o", str(tmp_path / "a.stl"), "--resolution", "8", "--voxel-size", "0.1"])
+
+
+def test_default_size_from_the_part(tmp_path, model, capsys):
+    assert main(["mesh", str(model), "-o", str(tmp_path / "a.stl"), "--quiet"]) == 0
+    assert "watertight yes" in capsys.readouterr().out

@@ -13,7 +13,7 @@ from spatial import mesh
 from spatial.meshing.blocks import mesh_block
 
 from meshcheck import min_area, signed_volume, topology, vertex_manifold
-from test_octree import solids as random_solids
+from solid_strategies import solids as random_solids
 
 #: Refined vertices lie this close to the surface, in voxels.
 REFINED_TOL = 2e-3
@@ -150,8 +150,6 @@ def test_clipped_to_bounds_stays_closed():
 
 def test_bad_arguments():
     with pytest.raises(ValueError, match="exactly one of voxel_size"):
-        mesh(sphere(1.0))
-    with pytest.raises(ValueError, match="exactly one of voxel_size"):
         mesh(sphere(1.0), voxel_size=0.1, resolution=10)
     with pytest.raises(TypeError, match="resolution"):
         mesh(sphere(1.0), resolution=10.5)
@@ -161,6 +159,8 @@ def test_bad_arguments():
         mesh("sphere", resolution=8)
     with pytest.raises(ValueError, match="unbounded"):
         mesh(halfspace((0, 0, 1)), resolution=8)
+    with pytest.raises(ValueError, match="bounds"):
+        mesh(halfspace((0, 0, 1)))  # the default voxel needs finite bounds
     with pytest.raises(ValueError, match="bounds"):
         mesh(sphere(1.0), resolution=8, bounds=((0, 0, 0), (0, 1, 1)))
     with pytest.raises(ValueError, match="block"):

@@ -1,0 +1,140 @@
+"""Meshes valid by construction: the reproductions found on random trees, and regularized Booleans."""
+
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+import implicit as I
+from spatial import mesh
+from spatial.meshing.blocks import INTERIOR, _edges_of
+
+from fuzzcheck import mesh_failures
+
+
+def _mesh(solid, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return mesh(solid, progress=False, **kw)
+
+
+def _bodies(m):
+    from spatial.analysis.validity import topology
+
+    return topology(m).bodies
+
+
+def test_box_whose_faces_lie_on_the_lattice_is_closed():
+    # the corner node read -1e-17 while the cell around it was bounded at +1e-17 (EMPTY): 3 open edges
+    a = 0.7888550334738731 * 1.1822627743691743
+    m = _mesh(I.box([a] * 3, [a] * 3), resolution=31)
+    assert mesh_failures(m, a / 31) == []
+    assert m.volume == pytest.approx(a ** 3, rel=0.02)
+
+
+def test_cone_meshes_without_in_cube_vertices_on_edges():
+    # Lewiner's vertex inside a cube was rounded onto a lattice edge: non-manifold where blocks meet
+    s = I.cone(0.91548, 0.43314, [-0.45333, -0.18667, 0.4], [0.81850, 0.10497, -0.56484])
+    m = _mesh(s, resolution=75)
+    assert mesh_failures(m, float(m.field_data["voxel_size"][0])) == []
+
+
+def test_thin_cone_has_no_zero_area_triangles():
+    s = I.cone(1.65474, 0.15789, [-0.14227, 0.09172, 0.15733], [0.25787, 0.58525, -0.76876])
+    m = _mesh(s, resolution=35)
+    assert mesh_failures(m, float(m.field_data["voxel_size"][0])) == []
+
+
+def test_in_cube_vertex_gets_its_own_axis():
+    verts = np.array([[1.0, 2.0, 3.25], [1.5, 2.25, 3.75], [0.0, 0.5, 0.0]], dtype=np.float32)
+    node, axis = _edges_of(verts)
+    assert axis.tolist() == [2, INTERIOR, 1]
+    assert node.tolist() == [[1, 2, 3], [1, 2, 3], [0, 0, 0]]
+
+
+@pytest.mark.parametrize("res", [63, 64, 100, 128])
+def test_boss_on_plate_is_one_body(res):
+    m = _mesh(I.box((4, 4, 1)) | I.box((1, 1, 1), center=(0, 0, 1)), resolution=res)
+    assert mesh_failures(m, 4.0 / res) == []
+    assert _bodies(m) == 1
+    assert m.volume == pytest.approx(17.0, rel=0.02)
+
+
+@pytest.mark.parametrize("shift", [0.0, 0.5, 1e-12, -1e-12])
+@pytest.mark.parametrize("res", [16, 31])
+def test_touching_unions_fuse_wherever_the_shared_face_falls(shift, res):
+    # the shared plane x = 0.5 + shift * h: on the lattice, half a voxel off it, 1e-12 off it
+    h = 2.0 / res
+    off = shift * h if abs(shift) >= 0.5 else shift
+    a, b = I.box(1.0), I.box(1.0, center=(1.0, 0, 0))
+    s = I.translate(a | b, (off, 0, 0))
+    m = _mesh(s, voxel_size=h)
+    assert mesh_failures(m, h) == []
+    assert _bodies(m) == 1
+    # marching cubes cuts a chamfer of about h^2 / 2 along each of the 16 units of edge (and the corners)
+    assert abs(m.volume - 2.0) <= 16 * h * h * 0.6
+
+
+@pytest.mark.parametrize("res", [16, 24, 32])
+def test_flush_pocket_leaves_no_skin(res):
+    # a pocket cut flush with the top face: the cut plane on the lattice leaves no zero-thickness skin
+    h = 1.0 / res
+    plate = I.box((2.0, 2.0, 1.0), (0, 0, 0.5))
+    pocket = I.box((1.0, 1.0, 0.5), (0, 0, 0.75))
+    m = _mesh(plate - pocket, voxel_size=h)
+    assert mesh_failures(m, h) == []
+    assert _bodies(m) == 1
+    assert m.volume == pytest.approx(4.0 - 0.5, rel=0.02)
+
+
+def test_coplanar_intersection_is_one_clean_body():
+    h = 1.0 / 20
+    s = I.box(1.0) & I.box((1.0, 0.6, 1.5))
+    m = _mesh(s, voxel_size=h)
+    assert mesh_failures(m, h) == []
+    assert _bodies(m) == 1
+    assert m.volume == pytest.approx(0.6, rel=0.03)
+
+
+def test_stacked_subtraction_leaves_no_skin_on_the_shared_face():
+    # two tools sharing a face cut one slot: their shared face must not stay as a wall
+    h = 1.0 / 16
+    s = I.box(2.0) - I.box((1.0, 0.5, 3.0), (0, -0.25, 0)) - I.box((1.0, 0.5, 3.0), (0, 0.25, 0))
+    m = _mesh(s, voxel_size=h)
+    assert mesh_failures(m, h) == []
+    assert m.volume == pytest.approx(8.0 - 2.0, rel=0.03)
+
+
+def test_tangent_spheres_mesh_validly():
+    s = I.sphere(0.5) | I.sphere(0.5, (1.0, 0, 0))
+    for res in (16, 24, 33):
+        m = _mesh(s, resolution=res)
+        assert mesh_failures(m, 2.0 / res) == []
+
+
+def test_same_bits_in_a_fresh_process():
+    code = ("import sys, hashlib, numpy as np; sys.path[:0] = ['.', 'tests']\n"
+            "import implicit as I; from spatial import mesh\n"
+            "m = mesh(I.smooth_union(I.torus(0.6, 0.2), I.box((1, 0.3, 0.9)), blend=0.1), resolution=40, progress=False)\n"
+            "print(hashlib.sha256(np.asarray(m.points).tobytes() + np.asarray(m.faces).tobytes()).hexdigest())\n")
+    import hashlib
+
+    # earlier work in this process first
+    for r in (20, 33):
+        _mesh(I.sphere(1) - I.box(1), resolution=r)
+    m = _mesh(I.smooth_union(I.torus(0.6, 0.2), I.box((1, 0.3, 0.9)), blend=0.1), resolution=40)
+    here = hashlib.sha256(np.asarray(m.points).tobytes() + np.asarray(m.faces).tobytes()).hexdigest()
+    there = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert here == there
+
+
+@pytest.mark.xfail(strict=True, reason="the shell's bounds miss part of its wall (1,324 of 200,000 probes "
+                   "beyond the bounds are inside): the mesh opens where the solid leaves its padded region")
+def test_fuzz_seed_3796_shell_outside_its_bounds_is_closed():
+    from fuzzgen import random_case
+
+    c = random_case(3796, resolutions=(16, 48), max_depth=5)
+    m = _mesh(c.solid, voxel_size=c.voxel_size)
+    assert mesh_failures(m, c.voxel_size) == []
