@@ -67,7 +67,7 @@ class ToolPath:
 
     @property
     def move_count(self) -> int:
-        return sum(len(op.moves) for op in self.operations)
+        return sum(1 for op in self.operations for m in op.moves if not isinstance(m[0], str))
 
     def cutting_length(self) -> float:
         """Length of the feed moves (lines and arcs) in 3D."""
@@ -179,7 +179,10 @@ def read_gcode(text: str):
             if letter in target:
                 new[axis] = target[letter] if absolute else pos[axis] + target[letter]
         if start is None:
-            start = pos.copy()
+            # the machine's position before the first move is unknown: start there
+            start = new.copy()
+            pos = new
+            continue
         ops[-1][1].append((motion, new[0], new[1], new[2], target.get("I", 0.0), target.get("J", 0.0),
                            None if motion == 0 else feed))
         pos = new

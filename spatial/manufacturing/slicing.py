@@ -203,7 +203,7 @@ def slice(solid, layer: float, *, resolution: int = DEFAULT_RESOLUTION, z_range=
     from implicit import Solid
     from implicit.solid import as_positive
 
-    from ..section import section
+    from ..analysis.section import section
 
     if not isinstance(solid, Solid):
         raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")

@@ -8,10 +8,14 @@ The planner works on the solid's own field, never on a polygon outline:
    and the part's bottom, with intermediate step-downs no deeper than
    `step_down`.
 2. At a depth ``z``, the tool may not touch anything of the part above ``z``:
-   the *shadow* field ``F(x, y) = min over planes z' > z of f(x, y, z')`` is the
-   (x, y) distance to the part's silhouette above ``z`` (exactly, for an exact
-   distance field and planes through every flat face).  The tool centre may go
-   where ``G = min(F - r, E) >= 0``, ``E`` being the stock box grown by 0.9 r.
+   the *shadow* is the union of the part's sections by planes ``z' > z``
+   (samples, every flat face and every depth, just above it).  Each section's
+   boundary is the solid's exact zero level (`analysis.section`: contoured,
+   then Newton steps onto the surface); its points, resampled densely, go into
+   a KD-tree, so ``F(x, y)`` is the in-plane distance to the shadow (negative
+   inside it).  A 3D distance would not do: just above a flat face it is the
+   height above the face, not the distance to the wall.  The tool centre may
+   go where ``G = min(F - r, E) >= 0``, ``E`` being the stock box grown by 0.9 r.
 3. The passes are the level sets ``G = k s`` (step-over ``s <= r``): ``k = 0``
    is the finishing contour at exactly ``r`` from the part (the level ``+r`` of
    its distance field, each point moved onto it by Newton steps), ``k >= 1`` the
@@ -42,6 +46,8 @@ __all__ = ["toolpath", "part_floors"]
 
 #: Grid samples across the larger side of the stock (plus the tool).
 DEFAULT_RESOLUTION = 128
+#: A column's top is on a flat face when its normal's z component exceeds this (0.8 degrees).
+FLAT_NORMAL = 0.9999
 #: Bisection steps for the top surface of each column.
 BISECTIONS = 40
 
@@ -225,27 +231,43 @@ def toolpath(solid, tool_radius, *, stepover=0.4, step_down=None, direction="cli
     inside_xy = (X >= slo[0]) & (X <= shi[0]) & (Y >= slo[1]) & (Y <= shi[1])
     heights = _top_heights(solid, X, Y, zs)
     heights[~inside_xy] = np.nan
-    floors = part_floors(heights, tol=tol, min_columns=max(4, int(0.002 * inside_xy.sum())))
+    # a floor is flat: the surface normal at the column's top points straight up
+    has = np.isfinite(heights)
+    g = solid.gradient(np.column_stack([X[has], Y[has], heights[has]]))
+    nzc = g[:, 2] / np.maximum(np.linalg.norm(g, axis=1), 1e-300)
+    flat = heights[has]
+    flat[nzc < FLAT_NORMAL] = np.nan
+    heights[has] = flat
+    floors = part_floors(heights, tol=1e-9 * size, min_columns=max(16, int(0.002 * inside_xy.sum())))
     depths = _depths(float(shi[2]), floors, float(slo[2]), dz_max, tol)
 
     # every plane the shadows need, top to bottom: samples, faces and depths (+eps)
     planes = np.unique(np.concatenate([zs[1:], np.asarray(depths) + eps, np.asarray(floors) + eps]))[::-1]
     planes = planes[planes <= shi[2] + eps]
     xy = np.column_stack([X.ravel(), Y.ravel()])
-    fp = np.stack([solid(np.column_stack([xy, np.full(len(xy), z)])).reshape(X.shape) for z in planes])
-    shadows = np.minimum.accumulate(fp, axis=0)
+    inside = np.logical_or.accumulate(
+        np.stack([solid(np.column_stack([xy, np.full(len(xy), z)])).reshape(X.shape) < 0 for z in planes]), axis=0)
+    boundary = [_section_points(solid, z, h) for z in planes]
     E = _stock_field(slo[0], shi[0], slo[1], shi[1], 0.9 * r)
+    Estock = _stock_field(slo[0], shi[0], slo[1], shi[1], 0.0)
     Egrid = E(np.stack([X, Y], axis=-1))
 
     from scipy.interpolate import RegularGridInterpolator
+    from scipy.spatial import cKDTree
 
     ops = []
     prev = float(shi[2])
     problems = []
     for zc in depths:
         n_above = int(np.searchsorted(-planes, -(zc + eps), side="right"))
-        above = planes[:n_above]
-        F = shadows[n_above - 1]
+        pts_above = np.concatenate(boundary[:n_above])
+        if len(pts_above) == 0:
+            F = np.full(X.shape, np.inf)
+            tree = None
+        else:
+            tree = cKDTree(pts_above)
+            F = tree.query(xy)[0].reshape(X.shape)
+            F[inside[n_above - 1]] *= -1.0
         G = np.minimum(F - r, Egrid)
         labels, n_bad = _narrow_features(F, G, inside_xy, h, r, leftover, zc)
         for lab in range(1, n_bad + 1):
@@ -261,15 +283,18 @@ def toolpath(solid, tool_radius, *, stepover=0.4, step_down=None, direction="cli
         def orient(q, interp=interp):
             return interp(q)
 
-        def refine(q, above=above):
-            # each point keeps the plane that is nearest to it at the start
-            vals = np.stack([solid(np.column_stack([q, np.full(len(q), z)])) for z in above])
-            zq = above[np.argmin(vals, axis=0)]
+        def exact(q, tree=tree):
+            d = tree.query(q)[0] if tree is not None else np.full(len(q), np.inf)
+            return np.minimum(d - r, E(q))
+
+        def refine(q, tree=tree):
+            if tree is None:
+                return q
 
             def field(p):
                 n, k = p.shape[:2]
-                pts = np.column_stack([p.reshape(-1, 2), np.repeat(zq, k)])
-                return np.minimum(solid(pts).reshape(n, k) - r, E(p))
+                d = tree.query(p.reshape(-1, 2))[0].reshape(n, k)
+                return np.minimum(d - r, E(p))
 
             return newton_to_level(field, q, level, h)
 
@@ -278,10 +303,12 @@ def toolpath(solid, tool_radius, *, stepover=0.4, step_down=None, direction="cli
         pocket, profile = [], []
         for level in levels[::-1]:
             for lp in level_loops(G, xs, ys, float(level), refine=refine, orient=orient):
+                if level == 0 and np.all(Estock(lp) < -0.5 * r):
+                    continue                  # runs outside the stock, around material the tool never meets
                 if direction == "conventional":
                     lp = lp[::-1].copy()
                 faces_part = level == 0 and np.any(F[_nearest(lp, xs, ys)] - r < Egrid[_nearest(lp, xs, ys)])
-                moves = _loop_moves(lp, zc, prev, safe_z, r, s, level, interp, direction, feed, plunge)
+                moves = _loop_moves(lp, zc, prev, safe_z, r, s, level, exact, direction, feed, plunge)
                 (profile if faces_part else pocket).append((level, moves))
         if pocket:
             ops.append(Operation(f"pocket, depth z={zc:.6g}, {len(pocket)} loops, step-over {s:.6g}", "pocket", zc,
@@ -300,6 +327,55 @@ def toolpath(solid, tool_radius, *, stepover=0.4, step_down=None, direction="cli
     return ToolPath(r, (slo, shi), float(safe_z), depths, ops, units, spindle, direction, title)
 
 
+def _sharp_corners(solid, z, lp, h):
+    """The loop with the sharp corners that the contour cut restored.
+
+    Sampled contours cut a sharp corner by a chord; the two neighbouring
+    chords' lines meet at the corner.  A meeting point is kept where the
+    lines turn by more than 30 degrees, it lies near the chord, and the
+    solid's field vanishes there (a true corner, not a tight curve).
+    """
+    a, b = np.roll(lp, 1, axis=0), lp                       # chord j - 1 ends at p_j
+    c, d = np.roll(lp, -1, axis=0), np.roll(lp, -2, axis=0)  # chord j + 1 starts at p_{j+1}
+    u, v = b - a, d - c
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    nu, nv = np.linalg.norm(u, axis=1), np.linalg.norm(v, axis=1)
+    sin = np.abs(cross) / np.maximum(nu * nv, 1e-300)
+    w = c - b
+    t = (w[:, 0] * v[:, 1] - w[:, 1] * v[:, 0]) / np.where(cross == 0, 1.0, cross)
+    q = b + t[:, None] * u
+    mid = 0.5 * (b + c)
+    ok = (sin > 0.5) & (np.linalg.norm(q - mid, axis=1) < 2 * h) & (cross != 0)
+    if not ok.any():
+        return lp
+    fq = np.full(len(lp), np.inf)
+    fq[ok] = np.abs(solid(np.column_stack([q[ok], np.full(ok.sum(), z)])))
+    ok &= fq < 1e-3 * h
+    out = []
+    for j in range(len(lp)):                                 # a loop's few corners: cheap
+        out.append(lp[j])
+        if ok[j]:
+            out.append(q[j])
+    return np.array(out)
+
+
+def _section_points(solid, z, h):
+    """Boundary points of the section at height z (sharp corners restored), at most h / 32 apart
+    (the distance to them is the distance to the curve within (h / 64)^2 / (2 r))."""
+    from ..analysis.section import section
+
+    sec = section(solid, f"z={float(z)!r}", voxel_size=h)
+    out = [np.zeros((0, 2))]
+    for lp in sec.loops:
+        lp = _sharp_corners(solid, z, lp, h)
+        b = np.roll(lp, -1, axis=0)
+        n = np.maximum(1, np.ceil(np.linalg.norm(b - lp, axis=1) / (h / 32)).astype(int))
+        t = np.concatenate([np.arange(k) / k for k in n])
+        i = np.repeat(np.arange(len(lp)), n)
+        out.append(lp[i] + t[:, None] * (b[i] - lp[i]))
+    return np.concatenate(out)
+
+
 def _nearest(lp, xs, ys):
     i = np.clip(np.rint((lp[:, 0] - xs[0]) / (xs[1] - xs[0])).astype(int), 0, len(xs) - 1)
     j = np.clip(np.rint((lp[:, 1] - ys[0]) / (ys[1] - ys[0])).astype(int), 0, len(ys) - 1)
@@ -314,7 +390,7 @@ def _joined(loops):
     return out
 
 
-def _loop_moves(lp, zc, prev, safe_z, r, s, level, interp, direction, feed, plunge):
+def _loop_moves(lp, zc, prev, safe_z, r, s, level, exact, direction, feed, plunge):
     """Rapid above the start, plunge, lead-in arc, the loop, lead-out, retract."""
     p0 = lp[0]
     t = lp[1] - lp[0]
@@ -325,9 +401,9 @@ def _loop_moves(lp, zc, prev, safe_z, r, s, level, interp, direction, feed, plun
     rho = min(0.5 * s, 0.5 * r)
     for _ in range(4):
         c = p0 + rho * nrm
-        ang = np.linspace(0, np.pi, 9)[:, None]
+        ang = np.linspace(0, np.pi, 17)[:, None]
         ring = c - rho * (np.cos(ang) * t + np.sin(ang) * nrm)     # a -> p0 -> b
-        if np.all(interp(ring) >= level - 0.05 * r):
+        if np.all(exact(ring) >= level - 1e-6 * r):      # the arc runs where the tool may go
             break
         rho *= 0.5
     else:

@@ -215,12 +215,21 @@ def verify(solid, program, *, tool_radius=None, stock=None, resolution=DEFAULT_R
     for name, moves in ops:
         pts_, feed = path_points(moves, cur, h / 2)
         cur = pts_[-1]
-        below = pts_[:, 2] < shi[2]
         before = top.copy()
-        rapid = below & (feed == 0)
-        _stamp(top, pts_[rapid], xs, ys, h, r, offs)
-        rapid_cut = float((before - top).sum() * area)
-        _stamp(top, pts_[below & (feed > 0)], xs, ys, h, r, offs)
+        # in program order: runs of rapids and runs of cutting moves
+        is_rapid = feed == 0
+        cuts = np.flatnonzero(np.diff(is_rapid.astype(np.int8))) + 1
+        rapid_cut = 0.0
+        for run in np.split(np.arange(len(pts_)), cuts):
+            run = run[pts_[run, 2] < shi[2]]
+            if run.size == 0:
+                continue
+            if is_rapid[run[0]]:
+                was = top.copy()
+                _stamp(top, pts_[run], xs, ys, h, r, offs)
+                rapid_cut += float((was - top).sum() * area)
+            else:
+                _stamp(top, pts_[run], xs, ys, h, r, offs)
         gouge = float((_column_integral(C_in, slo[2], hz, before)
                        - _column_integral(C_in, slo[2], hz, top)).sum() * area)
         table.append({"name": name, "removed": float((before - top).sum() * area), "gouge": gouge,
@@ -235,7 +244,7 @@ def verify(solid, program, *, tool_radius=None, stock=None, resolution=DEFAULT_R
                         float(tol), h, xs, ys, top, float(slo[2]))
 
 
-def removal_deviation(result: Verification, mesh, *, reach=None, samples=24):
+def removal_deviation(result: Verification, mesh, solid, *, reach=None, samples=24):
     """Per-vertex deviation of the machined stock from the design surface.
 
     Positive: thickness of material left outside the surface along the
@@ -244,8 +253,9 @@ def removal_deviation(result: Verification, mesh, *, reach=None, samples=24):
     (default 6 columns).
     """
     pts = np.asarray(mesh.points, dtype=float)
-    mesh = mesh.compute_normals(point_normals=True, cell_normals=False, auto_orient_normals=False)
-    n = np.asarray(mesh.point_data["Normals"], dtype=float)
+    # the field's gradient picks one face at a sharp edge (a mesh normal would average them)
+    g = solid.gradient(pts)
+    n = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
     reach = 6 * result.column if reach is None else float(reach)
     t = np.linspace(0.0, reach, samples)[1:]
 
@@ -255,8 +265,9 @@ def removal_deviation(result: Verification, mesh, *, reach=None, samples=24):
 
     out = (pts[:, None, :] + t[None, :, None] * n[:, None, :]).reshape(-1, 3)
     inn = (pts[:, None, :] - t[None, :, None] * n[:, None, :]).reshape(-1, 3)
-    left = material(out).reshape(len(pts), -1)
-    gone = ~material(inn).reshape(len(pts), -1)
+    # material left outside the design / removed inside it, along the normal
+    left = (material(out) & (solid(out) > 0)).reshape(len(pts), -1)
+    gone = (~material(inn) & (solid(inn) < 0)).reshape(len(pts), -1)
     # contiguous runs from the surface: the first False ends the run
     run_left = np.where(left.all(axis=1), len(t), np.argmin(left, axis=1))
     run_gone = np.where(gone.all(axis=1), len(t), np.argmin(gone, axis=1))
