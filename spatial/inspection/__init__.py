@@ -24,6 +24,9 @@ Examples
 from .align import apply, datum_align, icp, rigid_fit, vertex_areas  # noqa: F401
 from .deviation import SCAN_FORMATS, Inspection, inspect, load_scan  # noqa: F401
 from .pictures import deviation_picture, histogram_picture  # noqa: F401
+from .stackup import StackUp, Tolerance, signed_gap, stackup  # noqa: F401
+from .stackup_pictures import stackup_picture  # noqa: F401
 
 __all__ = ["apply", "datum_align", "icp", "rigid_fit", "vertex_areas", "SCAN_FORMATS", "Inspection", "inspect",
-           "load_scan", "deviation_picture", "histogram_picture"]
+           "load_scan", "deviation_picture", "histogram_picture", "StackUp", "Tolerance", "signed_gap", "stackup",
+           "stackup_picture"]
