@@ -171,6 +171,9 @@ def _extent_z(solid, resolution):
 
     bottom = bisect(zs[k0] - dz, zs[k0]) if plane_min(zs[k0] - dz) >= 0 else lo[2]
     top = bisect(zs[k1] + dz, zs[k1]) if plane_min(zs[k1] + dz) >= 0 else hi[2]
+    snap = 1e-9 * float(np.max(hi - lo))
+    bottom = lo[2] if abs(bottom - lo[2]) < snap else bottom        # tight bounds: keep their digits
+    top = hi[2] if abs(top - hi[2]) < snap else top
     return float(bottom), float(top)
 
 
@@ -231,7 +234,8 @@ def slice(solid, layer: float, *, resolution: int = DEFAULT_RESOLUTION, z_range=
     layers = []
     for i in range(max(n, 1)):
         z = z0 + (i + 0.5) * H
-        sec = section(solid, f"z={z!r}", voxel_size=h)
+        # a plane exactly on a flat face samples zeros: look a hair above it
+        sec = section(solid, f"z={z + 1e-9 * H!r}", voxel_size=h)
         layers.append(Layer(float(z), float(sec.area), [lp.copy() for lp in sec.loops], list(sec.holes)))
     volume = float(sum(ly.area for ly in layers) * H)
     return Slices(H, float(z0), float(z1), layers, volume, h)

@@ -97,7 +97,7 @@ def _depths(top, floors, bottom, step_down, tol):
     out, prev = [], top
     for t in targets:
         n = max(1, int(np.ceil((prev - t) / step_down - 1e-9)))
-        out += [prev - (prev - t) * k / n for k in range(1, n + 1)]
+        out += [prev - (prev - t) * k / n for k in range(1, n)] + [t]
         prev = t
     return out
 
