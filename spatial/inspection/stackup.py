@@ -160,7 +160,9 @@ def _surface_min(a, b, lo, hi, grid, rounds):
         else:
             step *= 0.5
         step *= 0.7                      # a compass search that always contracts: h 0.7^rounds at the end
-    return float(vals[0])
+    # the search accepts points a millionth off the surface: put the best ones on it
+    pts = _project(a, pts, 3)
+    return float(np.min(b(pts)))
 
 
 def signed_gap(a, b, *, grid=GAP_GRID, rounds=GAP_ROUNDS):
