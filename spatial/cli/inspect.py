@@ -57,7 +57,7 @@ def run(args) -> int:
     points, mesh = load_scan(args.scan)
     r = inspect(solid, mesh if mesh is not None else points, tolerance=args.tolerance, align=align, datums=datums)
     if args.picture:
-        deviation_picture(r, args.picture)
+        deviation_picture(r, args.picture, solid=solid)
     if args.histogram:
         histogram_picture(r, args.histogram)
     if args.json:

@@ -28,50 +28,69 @@ def _check_png(path):
     return p
 
 
-def deviation_picture(result, path, *, worst=5, window_size=(1100, 850), title=None):
-    """The scan coloured by deviation, worst points labelled; returns the path."""
+def deviation_picture(result, path, *, solid=None, worst=5, window_size=(1400, 700), title=None, resolution=96):
+    """The scan coloured by deviation, worst points labelled; returns the path.
+
+    A scanned mesh is drawn itself.  A point cloud is drawn over the design's
+    surface (when `solid` is given), each surface point coloured like its
+    nearest scan point, so the map reads as a surface, not as a see-through
+    cloud.
+    """
     path = _check_png(path)
     if not os.environ.get("DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista as pv
 
     dev = result.deviation
-    span = float(max(np.abs(dev).max(), result.tolerance))
-    plotter = pv.Plotter(off_screen=True, window_size=window_size)
+    # the colours span twice the tolerance: a defect beyond it saturates and stands out
+    span = float(min(max(np.abs(dev).max(), result.tolerance), 2 * result.tolerance))
+    if result.mesh is not None:
+        shown = result.mesh.copy()
+        shown.point_data["deviation"] = dev
+        style = {}
+    elif solid is not None:
+        from scipy.spatial import cKDTree
+
+        from ..meshing import mesh as mesh_solid
+
+        shown = mesh_solid(solid, resolution=resolution)
+        shown.point_data["deviation"] = dev[cKDTree(result.points).query(np.asarray(shown.points))[1]]
+        style = {}
+    else:
+        shown = pv.PolyData(result.points)
+        shown.point_data["deviation"] = dev
+        style = {"render_points_as_spheres": True, "point_size": max(2.0, min(6.0, 600.0 / np.sqrt(len(dev))))}
+    plotter = pv.Plotter(off_screen=True, window_size=window_size, shape=(1, 2), border=False)
     try:
-        plotter.set_background("white")
-        bar = {"title": "deviation from design (+ outside material)", "color": "black", "fmt": "%.3g",
-               "n_labels": 7, "vertical": False, "position_x": 0.18, "position_y": 0.03, "width": 0.64,
-               "height": 0.07, "title_font_size": 16, "label_font_size": 14}
-        if result.mesh is not None:
-            m = result.mesh.copy()
-            m.point_data["deviation"] = dev
-            plotter.add_mesh(m, scalars="deviation", cmap="coolwarm", clim=(-span, span), ambient=0.4,
-                             diffuse=0.6, specular=0.0, scalar_bar_args=bar)
-        else:
-            cloud = pv.PolyData(result.points)
-            cloud.point_data["deviation"] = dev
-            size = max(3.0, min(10.0, 2000.0 / np.sqrt(len(dev))))
-            plotter.add_mesh(cloud, scalars="deviation", cmap="coolwarm", clim=(-span, span),
-                             render_points_as_spheres=True, point_size=size, scalar_bar_args=bar)
         w = result.worst(worst)
-        if w:
-            pts = np.array([p["point"] for p in w])
-            labels = [f"{k + 1}: {p['deviation']:+.4g}" for k, p in enumerate(w)]
-            plotter.add_point_labels(pts, labels, font_size=14, point_size=12, point_color="black",
-                                     text_color="black", shape_color="#ffffe0", shape_opacity=0.85,
-                                     always_visible=True)
+        for col, (azimuth, name) in enumerate(((25, "seen from +x +y"), (160, "seen from -x"))):
+            plotter.subplot(0, col)
+            plotter.set_background("white")
+            bar = {"title": f"deviation from design (+ outside material), colours saturate at +/-{span:.3g}",
+                   "color": "black", "fmt": "%.3g", "n_labels": 5, "vertical": False, "position_x": 0.1,
+                   "position_y": 0.03, "width": 0.8, "height": 0.07, "title_font_size": 14,
+                   "label_font_size": 12}
+            plotter.add_mesh(shown.copy(), scalars="deviation", cmap="coolwarm", clim=(-span, span), ambient=0.4,
+                             diffuse=0.6, specular=0.0, show_scalar_bar=(col == 0),
+                             scalar_bar_args=bar if col == 0 else None, **style)
+            if w:
+                pts = np.array([p["point"] for p in w])
+                labels = [f"{k + 1}: {p['deviation']:+.4g}" for k, p in enumerate(w)]
+                plotter.add_point_labels(pts, labels, font_size=13, point_size=10, point_color="black",
+                                         text_color="black", shape_color="#ffffe0", shape_opacity=0.85,
+                                         always_visible=True)
+            plotter.add_text(name, position="upper_right", font_size=8, color="black")
+            plotter.camera_position = "iso"
+            plotter.camera.azimuth = azimuth
+            plotter.camera.elevation = 10
+            plotter.reset_camera()
+            plotter.camera.zoom(0.8)
+        plotter.subplot(0, 0)
         verdict = "PASS" if result.passed else "FAIL"
-        text = title or (f"{verdict}: tolerance +/-{result.tolerance:.4g}; {100 * result.within_tolerance:.1f} % "
-                         f"within; max {result.max_deviation:+.4g}, min {result.min_deviation:+.4g}, "
-                         f"RMS {result.rms_deviation:.4g} ({len(dev)} points, {result.alignment} alignment)")
-        plotter.add_text(text, position="upper_left", font_size=10, color="black")
-        plotter.camera_position = "iso"
-        plotter.camera.azimuth = 25
-        plotter.camera.elevation = 10
-        plotter.reset_camera()
-        plotter.camera.zoom(0.85)
-        plotter.add_axes(color="black")
+        text = title or (f"{verdict}: tolerance +/-{result.tolerance:.4g}, {100 * result.within_tolerance:.1f} % within\n"
+                         f"max {result.max_deviation:+.4g}, min {result.min_deviation:+.4g}, "
+                         f"RMS {result.rms_deviation:.4g}\n{len(dev)} points, {result.alignment} alignment")
+        plotter.add_text(text, position="upper_left", font_size=9, color="black")
         image = plotter.screenshot(None, return_img=True)
     finally:
         plotter.close()
