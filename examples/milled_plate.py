@@ -16,5 +16,16 @@ def model():
     return (plate | boss) - pocket - holes
 
 
+def main(resolution=64):
+    """Plan the milling with a 3 mm end mill, verify it; the verification."""
+    from spatial.manufacturing import toolpath, verify
+
+    part = model()
+    program = toolpath(part, 3.0, resolution=resolution, title="milled plate")
+    result = verify(part, program, resolution=resolution)
+    print(result.table())
+    return result
+
+
 if __name__ == "__main__":
-    print(model().tree())
+    main()

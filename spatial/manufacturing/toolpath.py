@@ -27,8 +27,10 @@ The planner works on the solid's own field, never on a polygon outline:
    rapids cross the part at the safe height; plunges descend at the plunge feed
    from just above the previous depth.
 
-Material the tool cannot reach - a hole, slot or pocket narrower than the
-tool's diameter - is refused with its coordinates: where the region to clear
+Where the grid's samples miss a region the tool just fits (a hole barely
+wider than the tool, seen at a coarse resolution), the tool plunges at its
+middle instead.  Material the tool cannot reach - a hole, slot or pocket
+narrower than the tool's diameter - is refused with its coordinates: where the region to clear
 lies deeper than `leftover` x r from the part and out of the tool's reach.
 (An inner corner of angle theta keeps a fillet of the tool radius whose
 deepest point lies ``r (1 / sin(theta / 2) - 1)`` from the corner: 0.41 r at
@@ -270,12 +272,22 @@ def toolpath(solid, tool_radius, *, stepover=0.4, step_down=None, direction="cli
             F[inside[n_above - 1]] *= -1.0
         G = np.minimum(F - r, Egrid)
         labels, n_bad = _narrow_features(F, G, inside_xy, h, r, leftover, zc)
+        plunges = []
         for lab in range(1, n_bad + 1):
             m = labels == lab
+            # the grid's samples miss the largest inscribed circle by up to h / sqrt(2): a
+            # feature that may be wide enough gets a plunge at its middle if the tool fits there
+            fmax = float(F[m].max())
+            if fmax + h / np.sqrt(2) >= r and tree is not None:
+                core = m & (F >= fmax - 0.5 * h)
+                c = np.array([X[core].mean(), Y[core].mean()])
+                if tree.query(c[None, :])[0][0] >= r * (1 - 1e-9) and E(c[None, :])[0] >= 0:
+                    plunges.append(c)
+                    continue
             if any(abs(p[1] - X[m].mean()) < 2 * h and abs(p[2] - Y[m].mean()) < 2 * h for p in problems):
                 continue                                  # the same feature, one depth further down
             problems.append((zc, X[m].mean(), Y[m].mean(), X[m].min(), X[m].max(), Y[m].min(), Y[m].max(),
-                             2 * F[m].max()))
+                             2 * fmax))
         if problems:
             continue
         interp = RegularGridInterpolator((xs, ys), G, bounds_error=False, fill_value=-r)
@@ -310,6 +322,10 @@ def toolpath(solid, tool_radius, *, stepover=0.4, step_down=None, direction="cli
                 faces_part = level == 0 and np.any(F[_nearest(lp, xs, ys)] - r < Egrid[_nearest(lp, xs, ys)])
                 moves = _loop_moves(lp, zc, prev, safe_z, r, s, level, exact, direction, feed, plunge)
                 (profile if faces_part else pocket).append((level, moves))
+        for c in plunges:
+            z_clear = min(prev + 0.25 * r, safe_z)
+            pocket.append((0.0, [(0, c[0], c[1], safe_z, 0, 0, None), (0, c[0], c[1], z_clear, 0, 0, None),
+                                 (1, c[0], c[1], zc, 0, 0, plunge), (0, c[0], c[1], safe_z, 0, 0, None)]))
         if pocket:
             ops.append(Operation(f"pocket, depth z={zc:.6g}, {len(pocket)} loops, step-over {s:.6g}", "pocket", zc,
                                  _joined(pocket)))

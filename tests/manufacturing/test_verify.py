@@ -80,3 +80,14 @@ def test_bad_input():
         verify(box(1.0), 3.0)
     with pytest.raises(ValueError, match="G-code line 1"):
         verify(box(1.0), "hello\n", tool_radius=0.1, stock=box(1.0).bounds)
+
+
+def test_the_milled_plate_example():
+    import os
+    import runpy
+
+    ns = runpy.run_path(os.path.join(os.path.dirname(__file__), "..", "..", "examples", "milled_plate.py"))
+    v = ns["main"](resolution=64)
+    exact = 86400.0 - (48000 + 9600 - 1600 - np.pi * 16 * 18 - np.pi * 25 * 10)
+    assert v.gouge_volume == 0.0 and v.rapid_volume == 0.0
+    assert v.removed_volume == pytest.approx(exact, rel=0.02)
