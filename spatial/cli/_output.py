@@ -5,11 +5,11 @@ from __future__ import annotations
 import os
 
 
-def check_output(path, extensions, what="output"):
+def check_output(path, extensions, what="an output"):
     """The lower-case extension of `path`, after checking it and its folder (before any work)."""
     ext = os.path.splitext(os.fspath(path))[1].lower()
     if ext not in extensions:
-        raise ValueError(f"{path}: expected a {what} file ending in {', '.join(extensions)}")
+        raise ValueError(f"{path}: expected {what} file name ending in {', '.join(extensions)}")
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise FileNotFoundError(2, "No such directory", folder)

@@ -52,7 +52,7 @@ def run(args) -> int:
         raise ValueError("--align datum: give three --datum planes")
     for p in (args.picture, args.histogram):
         if p:
-            check_output(p, (".png",), "picture")
+            check_output(p, (".png",), "a picture")
     solid = load_model(args.model)
     points, mesh = load_scan(args.scan)
     r = inspect(solid, mesh if mesh is not None else points, tolerance=args.tolerance, align=align, datums=datums)

@@ -56,7 +56,7 @@ def run(args) -> int:
     if args.samples < 0:
         raise ValueError(f"--samples: expected a non-negative integer, got {args.samples}")
     if args.picture:
-        check_output(args.picture, (".png",), "picture")
+        check_output(args.picture, (".png",), "a picture")
     build, tols, between = _load(args.stack)
     r = stackup(build, tols, between=between, samples=args.samples, seed=args.seed, check_worst=args.check)
     if args.picture:

@@ -47,10 +47,10 @@ def run(args) -> int:
 
     as_positive(args.tool_radius, "--tool-radius")
     if args.output:
-        check_output(args.output, (".ngc", ".nc", ".gcode", ".tap"), "G-code")
+        check_output(args.output, (".ngc", ".nc", ".gcode", ".tap"), "a G-code")
     for p in (args.picture, args.removal_picture):
         if p:
-            check_output(p, (".png",), "picture")
+            check_output(p, (".png",), "a picture")
     if args.removal_picture and not args.verify:
         raise ValueError("--removal-picture needs --verify")
     solid = load_model(args.model)
