@@ -4,6 +4,7 @@ The bolt's shank (diameter 10) sits in a hole of diameter 8, so the plate and
 the bolt interfere; the block stands clear of both.
 
     implicad interfere examples/assembly.py
+    implicad bom examples/assembly.py -o bom.csv
 """
 
 from implicit import box
@@ -19,6 +20,10 @@ def assembly():
                     across_flats=16.0).translate((-38.0, -18.0, 2.5))
     block = box((20.0, 20.0, 10.0), center=(0.0, 0.0, 20.0))
     return {"plate": plate, "bolt": bolt, "block": block}
+
+
+#: Part name -> material (a name known to spatial.analysis.MATERIALS, or (name, kg/m^3)).
+materials = {"plate": "aluminium", "bolt": "steel", "block": ("oak", 700.0)}
 
 
 def main():

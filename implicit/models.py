@@ -30,7 +30,7 @@ from pathlib import Path
 from .serialize import MAX_CHARS, from_dict, parse_json
 from .solid import Solid
 
-__all__ = ["load_model", "load_assembly", "load_any"]
+__all__ = ["load_model", "load_assembly", "load_any", "load_materials"]
 
 
 def _check_path(path) -> tuple[Path, str]:
@@ -216,3 +216,22 @@ def load_any(path) -> Solid | dict[str, Solid]:
     if "parts" in ns or "assembly" in ns:
         return _parts_from(ns, name)
     raise ValueError(f"{name}: defines none of 'solid', 'model()', 'parts' or 'assembly()'")
+
+
+def load_materials(path) -> dict:
+    """The materials of an assembly file's parts: part name -> material.
+
+    A ``.py`` assembly may define ``materials`` (a dict: part name -> a
+    material name such as ``"steel"``, or ``(name, density in kg/m^3)``); a
+    ``.json`` one may carry a ``"materials"`` object.  An empty dict when
+    there is none.
+    """
+    p, name = _check_path(path)
+    if p.suffix.lower() == ".json":
+        data = _read_json(p, name)
+        value = data.get("materials", {}) if isinstance(data, dict) else {}
+    else:
+        value = _run_python(p, name).get("materials", {})
+    if not isinstance(value, dict):
+        raise TypeError(f"{name}: materials is a {type(value).__name__}, expected a dict of part name -> material")
+    return {str(k): (tuple(v) if isinstance(v, list) else v) for k, v in value.items()}

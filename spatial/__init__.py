@@ -11,6 +11,8 @@ imports only from itself and the rooms below it:
 ``convert``     grids and meshes <-> parametric curves and patches
 ``fea``         FEA surfaces, tetrahedra, quality, solver files
 ``drafting``    pictures and drawings
+``manufacturing`` layer slices, 2.5D milling tool paths, G-code, verification
+``inspection``  scans against designs, tolerance stack-up
 ``cli``         the ``implicad`` command (top)
 ==============  ==========================================================
 
@@ -28,6 +30,10 @@ from .analysis import Topology, ValidityReport, topology, check, triangle_defect
 # (the functions `section` and `interference` stay in their modules, whose names they share)
 from .analysis import Section  # noqa: F401
 from .analysis import Interference, check_assembly  # noqa: F401
+from .analysis import BillOfMaterials, bill_of_materials  # noqa: F401
+# (`spatial.manufacturing.slice` keeps its room's name: it would hide the built-in here)
+from .manufacturing import Slices, ToolPath, Verification, toolpath  # noqa: F401
+from .inspection import Inspection, StackUp, Tolerance, stackup  # noqa: F401
 from .fea import surface_for_fea, surface_quality, tet_mesh, TetMesh, TetQuality, write_fea  # noqa: F401
 from .convert import (  # noqa: F401
     fit_section_curve, loft_sections, fit_star_surface, surface_to_mesh, curve_to_polydata, isoparametric_polydata,

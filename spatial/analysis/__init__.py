@@ -2,8 +2,9 @@
 
 `mass_properties` with error bounds for meshes, grids, octrees and solids
 (`mass`, over `mass_core`, `mass_cells`, `mass_solid`), planar sections
-(`section`), interference of assemblies (`interference`) and the topology and
-validity of meshes (`validity`: bodies, genus, Euler-Poincare, `check`).
+(`section`), interference of assemblies (`interference`), the topology and
+validity of meshes (`validity`: bodies, genus, Euler-Poincare, `check`) and
+the bill of materials of an assembly, shared by drawings' parts lists (`bom`).
 Above `meshing`, `cells` and `files`.
 
 Examples
@@ -20,8 +21,8 @@ from .validity import Topology, ValidityReport, check, topology, triangle_defect
 # (the functions `section` and `interference` stay in their modules, whose names they share)
 from .section import Section, parse_plane  # noqa: F401
 from .interference import Interference, box_pairs, check_assembly  # noqa: F401
+from .bom import MATERIALS, BillOfMaterials, BomItem, bill_of_materials  # noqa: F401
 
 __all__ = ["MassProperties", "MassError", "OpenMeshError", "ToleranceError", "UNITS", "mass_properties", "mesh_moments",
            "Topology", "ValidityReport", "check", "topology", "triangle_defects", "Section", "parse_plane", "Interference",
-           "box_pairs",
-           "check_assembly"]
+           "box_pairs", "check_assembly", "MATERIALS", "BillOfMaterials", "BomItem", "bill_of_materials"]

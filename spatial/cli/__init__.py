@@ -28,6 +28,11 @@ COMMAND_MODULES = (
     "fea",
     "render",
     "draw",
+    "slice",
+    "toolpath",
+    "inspect",
+    "stackup",
+    "bom",
 )
 
 
