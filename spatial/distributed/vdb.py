@@ -31,10 +31,14 @@ def _write_nodes(grid, nodes, values, block, band):
     holding nodes (blocks do not overlap, so no copy undoes another)."""
     if nodes.shape[0] == 0:
         return
-    key_of = nodes.astype(np.int64) // block
-    keys, inv = np.unique(key_of, axis=0, return_inverse=True)
-    inv = inv.reshape(-1)
-    local = nodes.astype(np.int64) - keys[inv] * block
+    nodes = nodes.astype(np.int64)
+    blk = nodes // block
+    span = blk.max(axis=0) - blk.min(axis=0) + 1
+    low = blk.min(axis=0)
+    key = ((blk[:, 0] - low[0]) * span[1] + blk[:, 1] - low[1]) * span[2] + blk[:, 2] - low[2]
+    keys, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    keys = blk[first]
+    local = nodes - keys[inv] * block
     dense = np.full((keys.shape[0], block, block, block), np.float32(band), dtype=np.float32)
     dense[inv, local[:, 0], local[:, 1], local[:, 2]] = np.clip(values, -band, band)
     for k in range(keys.shape[0]):  # one call per block, not per voxel
