@@ -112,7 +112,7 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
                                triangles=sum(i["triangles"] for i in infos),
                                part_points=sum(i["points"] for i in infos), voxel_size=h,
                                evaluations=plan.evaluations + sum(i["evaluations"] for i in infos),
-                               seconds=time.perf_counter() - t0)
+                               seconds=time.perf_counter() - t0, bricks=infos)
     import pyvista as pv
 
     points, faces = merge_parts(results)

@@ -89,6 +89,10 @@ class PartitionedMesh:
     part_points : int
         Vertices over all parts (those on brick faces counted once per part).
     voxel_size, evaluations, seconds : float, int, float
+    bricks : list of dict
+        Per brick (task): ``triangles``, ``points``, ``boundary_cells``,
+        ``evaluations``, ``seconds`` / ``cpu_seconds`` of the meshing,
+        ``write_seconds``, and ``peak_rss`` of the worker after it.
     """
 
     index: str
@@ -98,6 +102,7 @@ class PartitionedMesh:
     voxel_size: float = 0.0
     evaluations: int = 0
     seconds: float = 0.0
+    bricks: list = field(default_factory=list, repr=False)
 
     def gather(self, *, max_triangles=None):
         """The parts merged into one closed `pyvista.PolyData` (vertices fused by lattice-edge id).
