@@ -27,8 +27,9 @@ __all__ = ["level_set_vdb", "save_level_set_vdb"]
 
 
 def _write_nodes(grid, nodes, values, block, band):
-    """Copy nodes (j, 3) and their values into `grid` as dense arrays of `block**3` voxels, one per block
-    holding nodes (blocks do not overlap, so no copy undoes another)."""
+    """Add nodes (j, 3) and their values to `grid` through dense arrays of `block**3` voxels, one per block
+    holding nodes.  Each array starts from what the grid already holds there: the nodes on a face
+    between bricks come from both bricks, in any order, and neither copy may erase the other's."""
     if nodes.shape[0] == 0:
         return
     nodes = nodes.astype(np.int64)
@@ -39,10 +40,13 @@ def _write_nodes(grid, nodes, values, block, band):
     keys, first, inv = np.unique(key, return_index=True, return_inverse=True)
     keys = blk[first]
     local = nodes - keys[inv] * block
-    dense = np.full((keys.shape[0], block, block, block), np.float32(band), dtype=np.float32)
-    dense[inv, local[:, 0], local[:, 1], local[:, 2]] = np.clip(values, -band, band)
+    dense = np.empty((keys.shape[0], block, block, block), dtype=np.float32)
+    corners = [tuple(int(v) for v in k * block) for k in keys]
     for k in range(keys.shape[0]):  # one call per block, not per voxel
-        grid.copyFromArray(dense[k], ijk=tuple(int(v) for v in keys[k] * block), tolerance=0.0)
+        grid.copyToArray(dense[k], ijk=corners[k])  # inactive voxels read as the background
+    dense[inv, local[:, 0], local[:, 1], local[:, 2]] = np.clip(values, -band, band)
+    for k in range(keys.shape[0]):
+        grid.copyFromArray(dense[k], ijk=corners[k], tolerance=0.0)
 
 
 def level_set_vdb(solid, *, client=None, workers=None, voxel_size=None, resolution=None, bounds=None,
