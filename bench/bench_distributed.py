@@ -64,7 +64,7 @@ def run_one(n, workers, brick, folder):
                 worker_base_mb=sorted(v / 2 ** 20 for v in base.values()),
                 client_peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
                 cpu=stats("cpu_seconds"), mesh_seconds=stats("seconds"), write=stats("write_seconds"),
-                tri=stats("triangles"), cells=stats("boundary_cells"))
+                tri=stats("triangles"), cells=stats("boundary_cells"), write_cpu=stats("write_cpu_seconds"))
 
 
 def main(argv=None):

@@ -14,6 +14,7 @@ import numpy as np
 
 from ..analysis import mass_properties as _mass_properties
 from ..meshing import DEFAULT_BLOCK
+from ..meshing.blocks import check_block
 from .cluster import check_client, connect
 from .plan import DEFAULT_BRICK, check_brick, plan_bricks
 from .run import run_bricks
@@ -77,7 +78,7 @@ def mass_properties(solid, *, client=None, workers=None, density=1.0, units="m",
     if not isinstance(solid, Solid):
         raise TypeError(f"solid: expected an implicit.Solid, got {type(solid).__name__}")
     check_client(client, workers)
-    check_brick(brick, block)
+    check_brick(brick, check_block(block))
     with connect(client, workers) as c:
         return _mass_properties(solid, density=density, units=units, tolerance=tolerance, voxel_size=voxel_size,
                                 resolution=resolution,

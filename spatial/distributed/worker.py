@@ -133,7 +133,7 @@ def write_brick_part(spec, brick, path):
 
     part = mesh_brick(spec, brick)
     n = int(part["faces"].shape[0])
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     info = dict(path=None, points=int(part["points"].shape[0]), triangles=n,
                 shared=int(np.count_nonzero(part["shared"])), evaluations=part["evaluations"],
                 boundary_cells=part["boundary_cells"], seconds=part["seconds"], cpu_seconds=part["cpu_seconds"])
@@ -144,6 +144,7 @@ def write_brick_part(spec, brick, path):
         atomic_write(path, lambda tmp: poly.save(tmp, binary=True), ".vtp")
         info["path"] = os.fspath(path)
     info["write_seconds"] = time.perf_counter() - t0
+    info["write_cpu_seconds"] = time.process_time() - c0
     info["peak_rss"] = peak_rss()
     return info
 
