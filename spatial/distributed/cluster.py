@@ -47,10 +47,16 @@ def check_client(client, workers):
 
 def local_cluster(workers=2, *, memory_limit="auto"):
     """A `distributed.LocalCluster` of `workers` processes (one thread each) on 127.0.0.1, no dashboard."""
+    import warnings
+
     from distributed import LocalCluster
 
-    return LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, host="127.0.0.1",
-                        dashboard_address=None, memory_limit=memory_limit, silence_logs=40)
+    with warnings.catch_warnings():
+        # the scheduler's health routes (no dashboard) listen on 127.0.0.1, on port 8787 when it is free and
+        # on another when a second cluster holds it: nothing to warn about
+        warnings.filterwarnings("ignore", message="Port 8787 is already in use", category=UserWarning)
+        return LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, host="127.0.0.1",
+                            dashboard_address=None, memory_limit=memory_limit, silence_logs=40)
 
 
 @contextlib.contextmanager
