@@ -44,7 +44,8 @@ def run_one(n, workers, brick, folder):
     solid = part()
     with local_cluster(workers) as cluster, distributed.Client(cluster) as client:
         text = to_json(solid)
-        client.run(lambda t: solid_from_json(t) is not None, text)  # imports and the compiled evaluator, outside the timing
+        # the solid and its compiled evaluator, outside the timing (each worker's first task imports the meshing)
+        client.run(lambda t: solid_from_json(t) is not None, text)
         base = client.run(peak_rss)
         t0 = time.perf_counter()
         out = mesh(solid, resolution=n, client=client, brick=brick, parts=os.path.join(folder, f"part_{n}.pvtp"),
