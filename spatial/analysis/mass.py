@@ -38,7 +38,7 @@ def _kind(obj) -> str:
 def mass_properties(obj, *, density: float = 1.0, units: str = "m",
                     tolerance: float | None = None, voxel_size: float | None = None,
                     resolution: int | None = None, solid=None, mesher=None,
-                    min_wall: float | None = None) -> MassProperties:
+                    min_wall: float | None = None, moments=None) -> MassProperties:
     """Volume, mass, area, centroid and inertia of a solid, with error bounds.
 
     Parameters
@@ -68,6 +68,10 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
         Solids only: the thinnest wall the meshes must hold (default
         `spatial.cells.thickness.min_feature_size` of the tree); the
         coarsest level gets at least 1.2 cells across it.
+    moments : callable, optional
+        Solids only: ``moments(solid, h, center) -> (14,)`` raw moments of a
+        level's corrected mesh (`mass_solid.level_moments`), computed
+        elsewhere -- `spatial.distributed` sums them over bricks on a cluster.
 
     Returns
     -------
@@ -122,10 +126,10 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
         from implicit.solid import as_positive
 
         min_wall = as_positive(min_wall, "min_wall")
-    return _solid_mass(obj, density, units, tolerance, voxel_size, resolution, mesher, min_wall)
+    return _solid_mass(obj, density, units, tolerance, voxel_size, resolution, mesher, min_wall, moments)
 
 
-def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher, min_wall=None):
+def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher, min_wall=None, moments=None):
     if not solid.is_bounded:
         raise ValueError("solid: expected a bounded solid, got infinite bounds (intersect it with a box)")
     if solid.is_empty_bounds:
@@ -153,7 +157,8 @@ def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher
         tolerance = tol
     from .mass_solid import _solid_raw
 
-    raw, h, n, note = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher, wall=min_wall)
+    raw, h, n, note = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher, wall=min_wall,
+                                 moments=moments)
     return _finish(raw, density, units, h, f"solid: corrected marching cubes at {n // 4}, {n // 2}, {n} "
                                            f"cells + Richardson{note}")
 

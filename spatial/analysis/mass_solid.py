@@ -15,7 +15,7 @@ from .mass_area import true_area
 from .mass_core import (_EPS, MAX_CELLS, MAX_WALL_CELLS, MIN_CELLS, SAFETY, WALL_CELLS, ToleranceError,
                         _check_closed, _corners, _faces_array, _moments_of, _Raw)
 
-__all__ = ["shell_correction", "default_mesher"]
+__all__ = ["shell_correction", "default_mesher", "level_moments"]
 
 
 def default_mesher():
@@ -77,6 +77,19 @@ def _solid_level(solid, h, c0, mesher, correct=True, check=False) -> np.ndarray:
     pts, tri = _faces_array(mesh)
     if check:
         _check_closed(tri, pts.shape[0])
+    return level_moments(solid, pts, tri, c0, voxel_size=h, correct=correct)
+
+
+def level_moments(solid, pts, tri, c0, *, voxel_size, correct=True) -> np.ndarray:
+    """Raw moments (14,) of the triangles `tri` of `pts` about `c0`: thin-shell corrected, with the true area.
+
+    The moments are sums over the triangles, so those of a mesh cut in parts
+    are the sum of the parts' (`spatial.distributed` adds them up brick by
+    brick).  The true area weighs each triangle with the normals of its
+    vertices, which a part only knows from its own triangles: summed over
+    parts it differs slightly where the parts meet.
+    """
+    h = voxel_size
     kernels = _kernels()
     if kernels is not None:
         level, shell = kernels
@@ -179,7 +192,7 @@ def _kernels():
     return _KERNELS[0]
 
 
-def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None):
+def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None, moments=None):
     """Richardson-extrapolated raw moments of a solid, with an error estimate.
 
     With `cells` fixed, meshes at ``cells/4``, ``cells/2`` and ``cells``.
@@ -195,10 +208,16 @@ def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None):
     (_Raw, float, int, str)
         Moments and errors, the finest cell size, its cells across and a
         note on the levels (why they were refined, or "").
+
+    `moments(solid, h, c0)`, when given, computes a level's raw moments in
+    place of meshing it here.
     """
     from ..cells.thickness import min_feature_size
 
     mesher = mesher or default_mesher()
+    if moments is None:
+        def moments(solid, h, c0):
+            return _solid_level(solid, h, c0, mesher)
     lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
     extent = float(np.max(hi - lo))
     c0 = 0.5 * (lo + hi)
@@ -220,8 +239,8 @@ def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None):
             note = f"; levels from {finest} cells for the thinnest wall {wall:.3g}"
         levels = [max(finest // 4, 2), max(finest // 2, 4), finest]
     last = max(MAX_CELLS, levels[-1])
-    vecs = [_coarse_level(solid, extent / n, c0, mesher) for n in levels[:-1]]
-    vecs.append(_solid_level(solid, extent / levels[-1], c0, mesher))
+    vecs = [_coarse_level(solid, extent / n, c0, moments) for n in levels[:-1]]
+    vecs.append(moments(solid, extent / levels[-1], c0))
     while True:
         est, err = _extrapolate(vecs)
         err = _honest(est, err, lo, hi, c0)
@@ -234,7 +253,7 @@ def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None):
                                  f"a larger tolerance, or a resolution to accept its error)",
                                  tolerance=tolerance, estimate=rel, cells=levels[-1])
         levels.append(levels[-1] * 2)
-        vecs.append(_solid_level(solid, extent / levels[-1], c0, mesher))
+        vecs.append(moments(solid, extent / levels[-1], c0))
     return _Raw.from_vector(c0, est, err), extent / levels[-1], levels[-1], note
 
 
@@ -258,7 +277,7 @@ def _honest(est, err, lo, hi, c0):
     return np.maximum(out, 64 * _EPS * scale)
 
 
-def _coarse_level(solid, h, c0, mesher):
+def _coarse_level(solid, h, c0, moments):
     """A coarse level of the extrapolation: cells too big to resolve a thin
     part may leave no boundary (or make the mesher give up); such a level
     counts as empty, which the error estimate then reflects."""
@@ -267,7 +286,7 @@ def _coarse_level(solid, h, c0, mesher):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            return _solid_level(solid, h, c0, mesher)
+            return moments(solid, h, c0)
     except ValueError:
         return np.zeros(14)
 

@@ -193,7 +193,8 @@ def make_lattice(solid, *, voxel_size=None, resolution=None, bounds=None, max_de
 # classification, level by level
 # ---------------------------------------------------------------------------
 
-def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=None, chunk=None, margin=0.0):
+def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=None, chunk=None, margin=0.0,
+            start=None):
     """Classify the lattice's octree top-down.
 
     Parameters
@@ -215,6 +216,10 @@ def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=Non
         off it needs uniform cells whose samples keep one sign under the
         rounding of a point evaluation (a face lying on a lattice plane gives
         ``vmin`` of 1e-17 and samples of -1e-17).
+    start : (int, (k, 3) int), optional
+        ``(level, cells)``: classify from that level on, starting with these
+        cells of it (default: the root, level 0) -- a part of the octree,
+        classified exactly as the whole tree classifies it.
 
     Returns
     -------
@@ -228,13 +233,15 @@ def descend(lattice: Lattice, *, keep_leaves=True, stop_level=None, progress=Non
     stop = depth if stop_level is None else int(stop_level)
     solid, origin, h = lattice.solid, lattice.origin, lattice.voxel_size
     shape = lattice.shape
-    cells = np.zeros((1, 3), dtype=np.int32)
+    first, cells = (0, np.zeros((1, 3), dtype=np.int32)) if start is None else \
+        (int(start[0]), np.asarray(start[1], dtype=np.int32).reshape(-1, 3))
+    boundary = cells[:0]
     leaves = []
     classified = []
     evaluations = 0
-    bar = progress_bar(stop + 1, "classify", progress, unit="level")
+    bar = progress_bar(max(stop + 1 - first, 0), "classify", progress, unit="level")
     try:
-        for level in range(stop + 1):
+        for level in range(first, stop + 1):
             s = 1 << (depth - level)
             # cells wholly outside the padded region are EMPTY without evaluation
             limit = (-(-shape // s)).astype(np.int32)

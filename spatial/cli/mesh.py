@@ -6,6 +6,10 @@ the command ends with one summary line: triangles, vertices, watertight,
 seconds and distance evaluations.  Warnings (a voxel coarser than the
 thinnest wall) take one line each on stderr; an empty mesh is not written
 (exit 1).
+``--workers N`` (a local Dask cluster) or
+``--scheduler ADDRESS`` meshes brick by brick on a cluster (the same
+triangles), with Dask's progress bar; a ``.pvtp`` output is then written in
+parts (one .vtp per brick, nothing gathered).
 """
 
 from __future__ import annotations
@@ -38,6 +42,13 @@ def add_arguments(parser) -> None:
                         help="always show the progress bar")
     parser.add_argument("--quiet", dest="progress", action="store_const", const=False,
                         help="never show the progress bar")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, metavar="N",
+                       help="mesh brick by brick on a local Dask cluster of N worker processes")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="mesh brick by brick on the Dask cluster of this scheduler (tcp://host:port)")
+    parser.add_argument("--brick", type=int, metavar="B",
+                        help="voxels per side of one task's octree cell (with --workers/--scheduler; default 256)")
 
 
 def _load(path):
@@ -46,22 +57,52 @@ def _load(path):
     return load_model(path)
 
 
+def _cluster_options(args):
+    """``client=`` / ``workers=`` / ``brick=`` of the distributed mesher, checked; None for this process."""
+    if args.workers is None and args.scheduler is None:
+        if args.brick is not None:
+            raise ValueError("--brick: only with --workers or --scheduler")
+        if args.output.lower().endswith(".pvtp"):
+            raise ValueError(f"{args.output}: a .pvtp (mesh in parts) needs --workers or --scheduler")
+        return None
+    from ..distributed.cluster import check_client
+    from ..distributed.plan import DEFAULT_BRICK, check_brick
+    from ..meshing import DEFAULT_BLOCK
+
+    client, workers = check_client(args.scheduler or "local", args.workers)
+    brick = check_brick(DEFAULT_BRICK if args.brick is None else args.brick, DEFAULT_BLOCK)
+    return dict(client=client, workers=workers, brick=brick)
+
+
 def run(args) -> int:
     from ..meshing.boundary import mesh
     from ..files.meshes import mesh_format, save_mesh
 
-    mesh_format(args.output)  # unknown extension: refused before any work
+    cluster = _cluster_options(args)
+    in_parts = cluster is not None and args.output.lower().endswith(".pvtp")
+    if not in_parts:
+        mesh_format(args.output)  # unknown extension: refused before any work
     bounds = None
     if args.bounds is not None:
         bounds = (args.bounds[:3], args.bounds[3:])
     solid = _load(args.model)
     t0 = time.perf_counter()
+    options = dict(voxel_size=args.voxel_size, resolution=args.resolution, bounds=bounds,
+                   refine=not args.no_refine, progress=args.progress)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        surface = mesh(solid, voxel_size=args.voxel_size, resolution=args.resolution, bounds=bounds,
-                       refine=not args.no_refine, progress=args.progress)
+        if cluster is None:
+            surface = mesh(solid, **options)
+        else:
+            from ..distributed import mesh as mesh_on_cluster
+
+            surface = mesh_on_cluster(solid, **options, **cluster, parts=args.output if in_parts else None)
     for w in caught:  # one line each, without the source line Python would add
         print(f"implicad: warning: {str(w.message).splitlines()[0]}", file=sys.stderr)
+    if in_parts:
+        print(f"{args.output}: {surface.triangles} triangles in {len(surface.parts)} parts, "
+              f"{time.perf_counter() - t0:.2f} s, {surface.evaluations} evaluations")
+        return 0
     if surface.n_cells == 0:
         # nothing to write: said in one line (a mesh writer would print its own errors)
         h = float(surface.field_data["voxel_size"][0]) if "voxel_size" in surface.field_data else 0.0

@@ -64,7 +64,7 @@ from ..cells.budget import check_mesh_memory
 from ..cells.lattice import CHILD_OFFSETS, descend, make_lattice
 from ..cells.thickness import WALL_VOXELS, default_voxel_size, thinnest_wall
 
-__all__ = ["mesh"]
+__all__ = ["mesh", "boundary_cells_2h"]
 
 
 def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, progress=None,
@@ -148,7 +148,7 @@ def _warn_thin(solid, h):
                       stacklevel=3)
 
 
-def _boundary_cells_2h(lattice, progress):
+def _boundary_cells_2h(lattice, progress, start=None):
     """BOUNDARY cells of edge ``2h`` (level ``depth - 1``) and what their classification learned.
 
     Levels down to ``depth - 3`` are classified by `Solid.value_bounds`.  The
@@ -167,6 +167,10 @@ def _boundary_cells_2h(lattice, progress):
         ``uniform_parents`` (the same for cells of edge ``4h``) or None;
         ``nodes`` ((j, 3) lattice nodes, (j,) values) sampled on the way or
         None; ``evaluations``.
+
+    With ``start=(level, cells)`` only the octree below those cells is
+    classified (`descend`): a brick of the lattice, as the whole-lattice
+    classification sees it.
     """
     solid, depth = lattice.solid, lattice.depth
     lip = float(solid.lipschitz)
@@ -174,11 +178,11 @@ def _boundary_cells_2h(lattice, progress):
     margin = ZERO_NUDGE * lattice.voxel_size
     if not (np.isfinite(lip) and lip > 0) or depth < 3:
         result = descend(lattice, keep_leaves=False, stop_level=depth - 1, progress=progress,
-                         chunk=CLASSIFY_CHUNK, margin=margin)
+                         chunk=CLASSIFY_CHUNK, margin=margin, start=start)
         return dict(cells=result["boundary"], centres=None, uniform=None, uniform_parents=None, nodes=None,
                     evaluations=result["evaluations"])
     result = descend(lattice, keep_leaves=False, stop_level=depth - 3, progress=progress, chunk=CLASSIFY_CHUNK,
-                     margin=margin)
+                     margin=margin, start=start)
     evaluations = result["evaluations"]
     h = lattice.voxel_size
     parents = result["boundary"]
@@ -213,3 +217,7 @@ def _boundary_cells_2h(lattice, progress):
     return dict(cells=parents, centres=centres,
                 uniform=uniform[1], uniform_parents=uniform[0],
                 nodes=(np.concatenate(node_idx), np.concatenate(node_val)), evaluations=evaluations)
+
+
+#: The classification of `mesh`, for callers meshing a part of the lattice (one brick per task).
+boundary_cells_2h = _boundary_cells_2h

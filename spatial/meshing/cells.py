@@ -19,7 +19,7 @@ __all__ = ["mesh_cells"]
 
 def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
                block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, uniform_parents=None, node_values=None,
-               features=False, _stacklevel=2):
+               features=False, stride=None, edge_ids=False, _stacklevel=2):
     """Mesh the boundary through the given cells of a lattice.
 
     Parameters
@@ -52,6 +52,12 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         Lattice nodes already sampled and their values (``cell_size`` 2
         only): reused, and their neighbours far enough from the level take
         their sign.
+    stride : int, optional
+        Node ids ``(x * stride + y) * stride + z`` (default: from the cells);
+        give one stride to the meshes of parts of one lattice so their ids agree.
+    edge_ids : bool
+        Add point data ``edge_id``: the lattice edge ``3 * id + axis`` of each
+        vertex (the key that fuses the meshes of neighbouring parts).
 
     Returns
     -------
@@ -80,10 +86,16 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         return empty_mesh(h, evaluations)
     if np.any(cells < 0):
         raise ValueError("cells: expected non-negative lattice indices")
+    if edge_ids and features:
+        raise ValueError("edge_ids: the feature pass moves and adds vertices off their lattice edges; "
+                         "give edge_ids=True or features=True, not both")
     if block % c:
         raise ValueError(f"block: expected a multiple of the cell size {c}, got {block}")
     lip = float(getattr(solid, "lipschitz", np.inf))
-    stride = np.int64(int((cells.max() + 1) * c) + 2)  # global node ids: (x * S + y) * S + z
+    least = int((cells.max() + 1) * c) + 2
+    if stride is not None and int(stride) < least:
+        raise ValueError(f"stride: expected at least {least} for these cells, got {stride}")
+    stride = np.int64(least if stride is None else int(stride))  # global node ids: (x * S + y) * S + z
     per = block // c  # cells per block side
 
     if centre_values is not None:
@@ -182,6 +194,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         del rows
     del f0, f1
     _release_free_memory()
+    if edge_ids:
+        ids = ((nodes[:, 0].astype(np.int64) * stride + nodes[:, 1]) * stride + nodes[:, 2]) * 3 + axis
     p0 = np.empty(nodes.shape, dtype=np.float64)
     p0[...] = nodes
     del nodes
@@ -203,6 +217,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         out.point_data["feature_facets"] = sharp["feature_facets"]
         out.field_data["facet_names"] = np.array(sharp["facet_names"] or [""])
         out.field_data["feature_cells"] = np.array([sharp["feature_cells"]], dtype=np.int64)
+    if edge_ids:
+        out.point_data["edge_id"] = ids
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
     out.field_data["boundary_cells"] = np.array([n_cells], dtype=np.int64)

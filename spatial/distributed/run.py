@@ -1,0 +1,48 @@
+"""Running one task per brick: submission, Dask's progress bar, results as they complete."""
+
+from __future__ import annotations
+
+import threading
+
+from ..files.progress import wants_progress
+
+__all__ = ["run_bricks"]
+
+
+def run_bricks(client, function, spec, bricks, *, progress=None, extra=None, name="brick"):
+    """Run ``function(spec, brick, *extra[i])`` for every brick; yield ``(i, result)`` as tasks complete.
+
+    A result is released from its worker as soon as it is read, so the
+    workers never hold more than the results not yet read.  On a terminal
+    (or with ``progress=True``) Dask's own text progress bar
+    (`distributed.progress`) follows the tasks.
+    """
+    from distributed import as_completed
+
+    spec_f = client.scatter(spec, broadcast=True, hash=False)
+    futures = []
+    for i, b in enumerate(bricks):
+        args = () if extra is None else tuple(extra[i])
+        futures.append(client.submit(function, spec_f, tuple(int(v) for v in b), *args, pure=False,
+                                     key=f"{name}-{i}-{spec_f.key}"))
+    index = {f.key: i for i, f in enumerate(futures)}
+    bar = None
+    if futures and wants_progress(progress):
+        from distributed import progress as dask_progress
+
+        # the bar blocks while it draws: it draws from a thread, the results are read here
+        bar = threading.Thread(target=dask_progress, args=(futures,), kwargs=dict(multi=False), daemon=True)
+        bar.start()
+    try:
+        for future in as_completed(futures):
+            i = index[future.key]
+            result = future.result()
+            futures[i] = None
+            future.release()
+            yield i, result
+    finally:
+        for f in futures:
+            if f is not None:
+                f.cancel()
+        if bar is not None:
+            bar.join(timeout=5)
