@@ -33,6 +33,10 @@ def _leaf_facets(node: Solid, p: np.ndarray):
         q = (p - node._c) @ node._frame.T
         dr = np.hypot(q[:, 0], q[:, 1]) - node._r
         return ["wall", "top", "bottom"], np.stack([dr, q[:, 2] - node._hh, -q[:, 2] - node._hh])
+    if kind == "extrude":
+        q = (p - node._c) @ node._rot
+        d = node._profile._evaluate(np.ascontiguousarray(q[:, :2]))
+        return ["side", "top", "bottom"], np.stack([d, q[:, 2] - node._hh, -q[:, 2] - node._hh])
     return [""], node._evaluate(p)[None, :]
 
 

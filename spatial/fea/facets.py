@@ -15,7 +15,8 @@ import numpy as np
 from implicit.facets import FacetField, facet_field  # noqa: F401  (re-exported)
 from implicit.solid import Solid
 
-__all__ = ["FacetField", "facet_field", "project_to_surface", "solve_on_facets", "NEWTON_STEPS"]
+__all__ = ["FacetField", "facet_field", "face_names", "independent_facets", "project_to_surface", "solve_on_facets",
+           "NEWTON_STEPS"]
 
 #: Newton steps used to put a point back on the zero set.
 NEWTON_STEPS = 6
@@ -111,3 +112,59 @@ def solve_on_facets(ff: FacetField, p, sets, iters=8):
             y = np.einsum("nij,nj->ni", np.linalg.pinv(JJ), fv)
         p -= np.einsum("nji,nj->ni", J, y)
     return p
+
+
+def independent_facets(ff: FacetField, points, near, count=3, parallel=0.99):
+    """Up to `count` facets per point, taken in order from `near`, whose gradients are independent.
+
+    Coplanar faces of solids that touch (the -z faces of both legs of an L
+    bracket) are all near 0 along an edge or corner, but only facets that
+    cross define it: a facet is skipped when its gradient lies (within
+    `parallel` as |cos|, or within the plane of the two taken) in the span
+    of the facets already taken.
+
+    Parameters
+    ----------
+    ff : FacetField
+    points : (n, 3) float
+    near : (k, n) bool
+        Facets that may be used at each point, in order of preference (index order).
+    count : {2, 3}
+    parallel : float
+
+    Returns
+    -------
+    (n, count) int
+        Facet indices, -1 where fewer independent facets were found.
+
+    Examples
+    --------
+    >>> from implicit import box
+    >>> ff = FacetField(box(2.0, center=(0, 0, 0)) | box(2.0, center=(2, 0, 0)))
+    >>> near = np.abs(ff([[1.0, 1.0, 1.0]])[2]) < 1e-9        # +x, +y, +z of one, -x, +y, +z of the other
+    >>> [ff.names[i] for i in independent_facets(ff, np.array([[1.0, 1.0, 1.0]]), near)[0]]
+    ['box_0.+x', 'box_0.+y', 'box_0.+z']
+    """
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    n = p.shape[0]
+    out = np.full((n, count), -1, dtype=np.int64)
+    if n == 0:
+        return out
+    g = ff.facet_gradients(p)
+    g = g / np.maximum(np.linalg.norm(g, axis=2, keepdims=True), 1e-300)
+    taken = np.zeros(n, dtype=np.int64)
+    basis = np.zeros((n, 3, 3))
+    rows = np.arange(n)
+    for k in range(near.shape[0]):
+        gk = g[k]
+        # Component of the gradient outside the span of the facets taken (Gram-Schmidt).
+        resid = gk - np.einsum("nij,nj->ni", np.swapaxes(basis, 1, 2), np.einsum("nij,nj->ni", basis, gk))
+        r = np.linalg.norm(resid, axis=1)
+        ok = near[k] & (taken < count) & (r > np.sqrt(1.0 - parallel**2))
+        if not ok.any():
+            continue
+        idx = rows[ok]
+        out[idx, taken[idx]] = k
+        basis[idx, taken[idx]] = resid[idx] / r[idx, None]
+        taken[idx] += 1
+    return out

@@ -28,7 +28,7 @@ from implicit.solid import Solid, as_positive
 from .surface import (FacetField, _deviation, _is_closed_manifold, mesh_faces, project_to_surface,
                           self_intersections, surface_for_fea)
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
-from .quality import _EDGES, dihedral_angles, tet_quality, tet_volumes
+from .quality import _EDGES, dihedral_angles, radius_edge_ratio, tet_quality, tet_volumes
 
 __all__ = ["TetMesh", "tet_mesh", "MeshQualityWarning", "SIDE_NODES"]
 
@@ -74,8 +74,17 @@ def _score(d, min_dihedral, max_dihedral):
     return np.minimum(lo, hi)
 
 
+def _element_score(points, tets, min_dihedral, max_dihedral, radius_edge=None):
+    """`_score` of the elements, with a radius-edge ratio above `radius_edge` scored as a
+    dihedral angle under the minimum (the ratio over the limit scales it down)."""
+    sc = _score(dihedral_angles(points, tets), min_dihedral, max_dihedral)
+    if radius_edge is not None:
+        sc = np.minimum(sc, min_dihedral * radius_edge / np.maximum(radius_edge_ratio(points, tets), 1e-300))
+    return sc
+
+
 def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, seed=0, solid=None, slide=None,
-             jitter=1.0):
+             jitter=1.0, radius_edge=None):
     """Smooth movable vertices of bad elements until no element is bad or nothing moves.
 
     Each round takes an independent set of candidate vertices (no two in one
@@ -92,7 +101,7 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
     starts = np.searchsorted(vert_sorted, np.arange(n + 1))
     target = min_dihedral + 1.0
     n_trials = 24
-    score = _score(dihedral_angles(pts, tets), min_dihedral, max_dihedral)
+    score = _element_score(pts, tets, min_dihedral, max_dihedral, radius_edge)
     for _ in range(rounds):
         bad = score < target
         if not bad.any():
@@ -143,7 +152,8 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
         for j in range(trials.shape[0]):
             xt = np.where(is_v[:, :, None], trials[j][pair_v][:, None, :], x)
             vol = tet_volumes(xt.reshape(-1, 3), np.arange(xt.shape[0] * 4).reshape(-1, 4))
-            sc = _score(dihedral_angles(xt.reshape(-1, 3), np.arange(xt.shape[0] * 4).reshape(-1, 4)), min_dihedral, max_dihedral)
+            sc = _element_score(xt.reshape(-1, 3), np.arange(xt.shape[0] * 4).reshape(-1, 4), min_dihedral, max_dihedral,
+                                radius_edge)
             sc = np.where(vol > 0, sc, -np.inf)
             worst = np.minimum.reduceat(sc, seg)
             if best_score is None:
@@ -156,7 +166,7 @@ def _improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, se
         # Only the elements around moved vertices change their score.
         touched = np.unique(pair_tet[best[pair_v] != 0])
         if touched.size:
-            score[touched] = _score(dihedral_angles(pts, tets[touched]), min_dihedral, max_dihedral)
+            score[touched] = _element_score(pts, tets[touched], min_dihedral, max_dihedral, radius_edge)
     return pts
 
 
@@ -248,18 +258,24 @@ def _project_midnodes(solid, ff, points, tets10, boundary, n_corner, size):
     on_both = (np.abs(fa) < tol) & (np.abs(fb) < tol)  # (k, e)
     feature = on_both.sum(axis=0) >= 2
     if feature.any():
-        from .facets import solve_on_facets
+        from .facets import independent_facets, solve_on_facets
 
         ii = np.nonzero(feature)[0]
-        sets = np.full((ii.size, 2), -1, dtype=np.int64)
-        order = np.argsort(~on_both[:, ii], axis=0, kind="stable")[:2].T
-        sets[:] = order
+        sets = independent_facets(ff, start[ii], on_both[:, ii], count=2)
+        ok = sets[:, 1] >= 0
+        ii, sets = ii[ok], sets[ok]
         snapped = solve_on_facets(ff, start[ii], sets)
         good = (np.linalg.norm(snapped - start[ii], axis=1) < size) & np.isfinite(snapped).all(axis=1)
+        good &= np.abs(solid(snapped)) < tol
         moved[ii[good]] = snapped[good]
     pts[mids] = moved
     from .quality import scaled_jacobian
 
+    bad = scaled_jacobian(pts, tets10) <= MIN_CURVED_JACOBIAN
+    if bad.any():
+        # A curved boundary edge folds an element whose other nodes lie close to it: carry the
+        # boundary displacement into the interior mid-edge nodes instead of giving it up.
+        pts = _spread_curving(points, pts, tets10, mids)
     for _ in range(5):
         sj = scaled_jacobian(pts, tets10)
         bad = sj <= 0
@@ -268,6 +284,39 @@ def _project_midnodes(solid, ff, points, tets10, boundary, n_corner, size):
         back = np.intersect1d(tets10[bad, 4:].reshape(-1), mids)
         pts[back] = points[back]
     return pts
+
+
+#: Scaled Jacobian under which a curved element has its interior mid-edge nodes moved along.
+MIN_CURVED_JACOBIAN = 0.2
+
+
+def _spread_curving(straight, curved, tets10, boundary_mids, iterations=40):
+    """Move interior mid-edge nodes by a smooth extension of the boundary mid-node moves.
+
+    The displacement of the boundary mid-edge nodes (fixed) is extended to the
+    other mid-edge nodes by Jacobi steps of a graph Laplacian (each mid node
+    takes the mean displacement of the mid nodes of its elements), which
+    bends the elements next to a curved boundary along with it.
+    """
+    n = len(straight)
+    disp = curved - straight
+    fixed = np.zeros(n, dtype=bool)
+    fixed[boundary_mids] = True
+    fixed[: int(tets10[:, :4].max()) + 1] = True  # corners stay
+    mid = tets10[:, 4:]
+    # Pairs of mid nodes sharing an element (both directions).
+    i, j = np.triu_indices(6, 1)
+    a = np.concatenate([mid[:, i].reshape(-1), mid[:, j].reshape(-1)])
+    b = np.concatenate([mid[:, j].reshape(-1), mid[:, i].reshape(-1)])
+    deg = np.bincount(a, minlength=n).astype(np.float64)
+    free = ~fixed & (deg > 0)
+    for _ in range(iterations):
+        acc = np.zeros((n, 3))
+        np.add.at(acc, a, disp[b])
+        disp[free] = acc[free] / deg[free][:, None]
+    out = curved.copy()
+    out[free] = straight[free] + disp[free]
+    return out
 
 
 def _name_sets(ff, points, boundary, boundary_side, boundary_element, tets):
@@ -421,15 +470,14 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
     movable[np.unique(bfaces)] = False
     # With -Y TetGen keeps the surface; count any point it still had to add on it.
     info["boundary_steiner_points"] = int(np.setdiff1d(np.unique(bfaces), np.arange(len(spts))).size)
-    nodes = _improve(nodes, elems, movable, min_dihedral, max_dihedral, seed=seed)
-    d = dihedral_angles(nodes, elems)
-    if np.any(_score(d, min_dihedral, max_dihedral) < min_dihedral):
+    nodes = _improve(nodes, elems, movable, min_dihedral, max_dihedral, seed=seed, radius_edge=radius_edge)
+    if np.any(_element_score(nodes, elems, min_dihedral, max_dihedral, radius_edge) < min_dihedral):
         # Slivers lying on the boundary: let boundary vertices off the sharp edges slide on the surface.
         _, _, fv = FacetField(solid)(nodes)
         on_feature = (np.abs(fv) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
         slide = ~movable & ~on_feature
         nodes = _improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 1,
-                         solid=solid, slide=slide)
+                         solid=solid, slide=slide, radius_edge=radius_edge)
         info["boundary_slid"] = True
         elems, peeled = _peel(nodes, elems, min_dihedral, max_dihedral)
         if peeled:
@@ -437,10 +485,10 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=1.5, max_di
             bfaces, belem, bside = _boundary_faces(elems)
         for extra in range(3):
             # Stubborn slivers: more rounds with fresh random trials.
-            if not np.any(_score(dihedral_angles(nodes, elems), min_dihedral, max_dihedral) < min_dihedral):
+            if not np.any(_element_score(nodes, elems, min_dihedral, max_dihedral, radius_edge) < min_dihedral):
                 break
             nodes = _improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 2 + extra,
-                             solid=solid, slide=slide, rounds=80, jitter=1.0 + extra)
+                             solid=solid, slide=slide, rounds=80, jitter=1.0 + extra, radius_edge=radius_edge)
     if np.any(tet_volumes(nodes, elems) <= 0):
         raise ValueError("tet_mesh: an element is inverted after meshing (zero or negative volume)")
     tets = elems
