@@ -36,6 +36,7 @@ from .analysis import BillOfMaterials, bill_of_materials  # noqa: F401
 from .manufacturing import Slices, ToolPath, Verification, toolpath  # noqa: F401
 from .inspection import Inspection, StackUp, Tolerance, stackup  # noqa: F401
 from .fea import surface_for_fea, surface_quality, tet_mesh, TetMesh, TetQuality, write_fea  # noqa: F401
+from .fea import write_static_deck, run_calculix, read_frd  # noqa: F401
 from .convert import (  # noqa: F401
     fit_section_curve, loft_sections, fit_star_surface, surface_to_mesh, curve_to_polydata, isoparametric_polydata,
 )

@@ -7,8 +7,12 @@
   10-node tetrahedra with node and element-side sets;
 * `tet_quality`, `TetQuality` (`quality`): dihedral angles,
   radius-edge ratios, scaled Jacobians;
-* `write_fea`, `FEA_FORMATS` (`files`): Gmsh, Abaqus / CalculiX, VTU,
-  Nastran, STL / PLY.
+* `write_fea`, `FEA_FORMATS`, `set_names` (`files`, over `abaqus` and
+  `nastran`): Gmsh 4.1 / 2.2, Abaqus / CalculiX, VTU, Nastran, STL / PLY;
+* `write_static_deck`, `Material`, `MATERIALS`, `parse_material`,
+  `parse_load` (`deck`): ready-to-run linear-static CalculiX / Abaqus decks;
+* `run_calculix`, `StaticResult` (`solve`) and `read_frd` (`frd`): CalculiX
+  runs and its results read back into pyvista.
 
 Examples
 --------
@@ -23,11 +27,16 @@ from .surface import FacetField, facet_field, project_to_surface, self_intersect
     surface_quality, SurfaceQuality
 from .quality import TetQuality, tet_quality, dihedral_angles, radius_edge_ratio, scaled_jacobian
 from .tetmesh import MeshQualityWarning, TetMesh, tet_mesh
-from .files import FEA_FORMATS, write_fea, to_meshio
+from .files import FEA_FORMATS, set_names, write_fea, to_meshio
+from .deck import MATERIALS, Material, parse_load, parse_material, write_static_deck
+from .frd import read_frd, von_mises
+from .solve import StaticResult, calculix_path, run_calculix
 
 __all__ = [
     "FacetField", "facet_field", "project_to_surface", "self_intersections", "surface_for_fea",
     "surface_quality", "SurfaceQuality", "TetQuality", "tet_quality", "dihedral_angles",
     "radius_edge_ratio", "scaled_jacobian", "MeshQualityWarning", "TetMesh", "tet_mesh",
-    "FEA_FORMATS", "write_fea", "to_meshio",
+    "FEA_FORMATS", "set_names", "write_fea", "to_meshio", "MATERIALS", "Material", "parse_load",
+    "parse_material", "write_static_deck", "read_frd", "von_mises", "StaticResult", "calculix_path",
+    "run_calculix",
 ]

@@ -9,7 +9,7 @@ format    node sets              face (element side) sets
 ========  =====================  ==============================================
 .msh      (nodes of the groups)  physical groups of boundary triangles
 .inp      ``*NSET``              ``*ELSET`` per side + ``*SURFACE, TYPE=ELEMENT``
-.vtu      point data masks       ``region`` cell data on boundary triangles
+.vtu      point data masks       ``region`` cell data, names in field data
 .bdf      ``SET1`` cards         (none: comments name the sets)
 .stl/.ply (none)                 (none: the boundary triangles only)
 ========  =====================  ==============================================
@@ -24,14 +24,14 @@ import numpy as np
 from ..files.atomic import atomic_write as _atomic_write
 from .model import TetMesh, _boundary_cells, _cell_type, _region_ids, set_name, to_meshio  # noqa: F401
 
-__all__ = ["FEA_FORMATS", "fea_format", "write_fea", "to_meshio", "set_name"]
+__all__ = ["FEA_FORMATS", "fea_format", "write_fea", "to_meshio", "set_name", "set_names"]
 
 #: Extension -> description of the formats `write_fea` knows.
 FEA_FORMATS = {
     ".msh": "Gmsh mesh (4.1, or 2.2 with format_version='2.2')",
-    ".inp": "Abaqus / CalculiX input",
+    ".inp": "Abaqus / CalculiX input (C3D4 / C3D10, NSET and SURFACE per face)",
     ".vtu": "VTK unstructured grid",
-    ".bdf": "Nastran bulk data (large-field GRID*, free-field CTETRA)",
+    ".bdf": "Nastran input (SOL 101, GRID*, CTETRA, PSOLID, MAT1, SET1 per face)",
     ".nas": "Nastran bulk data (as .bdf)",
     ".stl": "boundary triangles, STL",
     ".ply": "boundary triangles, PLY",
@@ -61,7 +61,8 @@ def _write_gmsh(mesh, path, version):
         cells.append((tri_type, sel))
         phys.append(np.full(len(sel), r, dtype=np.int64))
         geom.append(np.full(len(sel), r, dtype=np.int64))
-    field_data = {set_name(k): np.array([i + 1, 2]) for i, k in enumerate(names)}
+    # Physical names are quoted strings in both versions: the face names go in unchanged.
+    field_data = {k: np.array([i + 1, 2]) for i, k in enumerate(names)}
     field_data["volume"] = np.array([vol_tag, 3])
     point_data = {}
     if version != "2.2":
@@ -77,33 +78,20 @@ def _write_gmsh(mesh, path, version):
 
 
 def _write_inp(mesh, path):
-    import meshio
+    from .abaqus import abaqus_names, inp_mesh_text
 
-    m = to_meshio(mesh, with_boundary=False)
-    # Element sides per region: *ELSET name_S<k> and *SURFACE, TYPE=ELEMENT.
-    region, names = _region_ids(mesh)
-    lines = []
-    for i, k in enumerate(["surface"] + names):
-        sel = np.arange(len(region)) if k == "surface" else np.nonzero(region == i)[0]
-        nm = set_name(k).upper()
-        entries = []
-        for s in range(4):
-            el = mesh.boundary_element[sel][mesh.boundary_side[sel] == s] + 1
-            if el.size == 0:
-                continue
-            es = f"{nm}_S{s + 1}"
-            lines.append(f"*ELSET, ELSET={es}")
-            lines.extend(", ".join(str(v) for v in row) for row in np.array_split(el, max(1, -(-el.size // 16))))
-            entries.append(f"{es}, S{s + 1}")
-        lines.append(f"*SURFACE, NAME={nm}_FACES, TYPE=ELEMENT")
-        lines.extend(entries)
+    names = abaqus_names(_face_names(mesh))
+    text = "*HEADING\nimplicad tetrahedral mesh\n" + inp_mesh_text(mesh, names)
+    _atomic_write(path, lambda tmp: _write_text(tmp, text))
 
-    def write(tmp):
-        meshio.write(tmp, m, file_format="abaqus")
-        with open(tmp, "a", encoding="ascii") as fh:
-            fh.write("\n".join(lines) + "\n")
 
-    _atomic_write(path, write)
+def _write_text(tmp, text):
+    with open(tmp, "w", encoding="ascii") as fh:
+        fh.write(text)
+
+
+def _face_names(mesh):
+    return [k for k in mesh.face_sets if k != "surface"]
 
 
 def _write_vtu(mesh, path):
@@ -116,48 +104,48 @@ def _write_vtu(mesh, path):
         mask = np.zeros(len(mesh.points), dtype=np.uint8)
         mask[v] = 1
         point_data[f"nodeset_{set_name(k)}"] = mask
+    # Region names travel as field data: one array per name holding its region number
+    # (the `region` cell data of the boundary triangles; 0 is the volume).
+    field_data = {k: np.array([i + 1], dtype=np.int64) for i, k in enumerate(names)}
+    field_data["volume"] = np.array([0], dtype=np.int64)
     m = meshio.Mesh(np.asarray(mesh.points), [(_cell_type(mesh), np.asarray(mesh.tets)), (tri_type, tri)],
-                    point_data=point_data, cell_data={"region": [np.zeros(len(mesh.tets), dtype=np.int64), region]})
+                    point_data=point_data, cell_data={"region": [np.zeros(len(mesh.tets), dtype=np.int64), region]},
+                    field_data=field_data)
     _atomic_write(path, lambda tmp: meshio.write(tmp, m, file_format="vtu"))
 
 
-def _write_bdf(mesh, path):
-    """Free-field Nastran: large-field GRID* cards (16-character numbers), CTETRA, SET1."""
-    pts = np.asarray(mesh.points, dtype=np.float64)
-    ids = np.arange(1, len(pts) + 1)
-    out = ["$ implicad tetrahedral mesh", "BEGIN BULK"]
-    # Large-field fixed format GRID*: 8-character key, 16-character fields (id, cp, x1, x2),
-    # then a continuation line holding x3.  "%16.9e" is exactly 16 characters for |x| < 1e100.
-    xs = [np.char.mod("%16.9e", pts[:, i]) for i in range(3)]
-    head = np.char.add(np.char.add("GRID*   ", np.char.rjust(ids.astype(str), 16)), " " * 16)
-    grid = np.char.add(np.char.add(np.char.add(head, xs[0]), xs[1]), np.char.add("\n*       ", xs[2]))
-    out.extend(grid.tolist())
-    tets = np.asarray(mesh.tets) + 1
-    eids = np.arange(1, len(tets) + 1).astype(str)
-    cols = [tets[:, j].astype(str) for j in range(tets.shape[1])]
-    head = np.char.add(np.char.add("CTETRA,", eids), ",1")
-    for j in range(min(6, tets.shape[1])):
-        head = np.char.add(np.char.add(head, ","), cols[j])
-    if tets.shape[1] == 10:
-        tail = np.char.add("\n+", "")
-        for j in range(6, 10):
-            tail = np.char.add(np.char.add(tail, ","), cols[j])
-        head = np.char.add(head, tail)
-    out.extend(head.tolist())
-    out.append("PSOLID,1,1")
-    for i, (k, v) in enumerate(mesh.node_sets.items()):
-        out.append(f"$ node set {i + 1}: {set_name(k)}")
-        vals = (np.asarray(v) + 1).astype(str)
-        rows = [",".join(vals[j:j + 7]) for j in range(0, len(vals), 7)]
-        out.append(f"SET1,{i + 1}," + rows[0])
-        out.extend("+," + r for r in rows[1:])
-    out.append("ENDDATA")
+def _write_bdf(mesh, path, material=None):
+    from .nastran import bdf_text
 
-    def write(tmp):
-        with open(tmp, "w", encoding="ascii") as fh:
-            fh.write("\n".join(out) + "\n")
+    text, _ = bdf_text(mesh, material=material)
+    _atomic_write(path, lambda tmp: _write_text(tmp, text))
 
-    _atomic_write(path, write)
+
+def set_names(mesh, path) -> dict:
+    """How each named face of `mesh` is called in the file `path` (by its extension).
+
+    ``.inp``: the node set (the surface is that name plus ``_F``); ``.bdf``:
+    the SET1 number; ``.msh`` / ``.vtu``: the face name itself (a physical
+    group / field-data name); ``.stl`` / ``.ply`` carry no sets (empty).
+
+    Examples
+    --------
+    >>> set_names(mesh, "beam.inp")["box_0.-x"]             # doctest: +SKIP
+    'BOX_0_MX'
+    """
+    ext = fea_format(path)
+    faces = _face_names(mesh)
+    if ext == ".inp":
+        from .abaqus import abaqus_names
+
+        return abaqus_names(faces)
+    if ext in (".bdf", ".nas"):
+        from .nastran import nastran_set_ids
+
+        return {k: f"SET1 {v}" for k, v in nastran_set_ids(faces).items()}
+    if ext in (".msh", ".vtu"):
+        return {k: k for k in faces}
+    return {}
 
 
 def _write_surface(mesh, path):
@@ -167,7 +155,7 @@ def _write_surface(mesh, path):
     _atomic_write(path, lambda tmp: surf.save(tmp))
 
 
-def write_fea(mesh, path, *, format_version: str = "4.1") -> str:
+def write_fea(mesh, path, *, format_version: str = "4.1", material=None) -> str:
     """Write a `TetMesh` to `path`; the extension picks the format (`FEA_FORMATS`).
 
     Parameters
@@ -176,6 +164,8 @@ def write_fea(mesh, path, *, format_version: str = "4.1") -> str:
     path : str or os.PathLike
     format_version : {"4.1", "2.2"}
         Gmsh file version (ignored for other formats).
+    material : Material or str, optional
+        The Nastran ``MAT1`` (default steel; see `spatial.fea.deck.parse_material`).
 
     Returns
     -------
@@ -206,7 +196,7 @@ def write_fea(mesh, path, *, format_version: str = "4.1") -> str:
     elif ext == ".vtu":
         _write_vtu(mesh, path)
     elif ext in (".bdf", ".nas"):
-        _write_bdf(mesh, path)
+        _write_bdf(mesh, path, material)
     else:
         _write_surface(mesh, path)
     return os.fspath(path)
