@@ -8,7 +8,10 @@ cd "$(dirname "$0")/.."
 
 PYTHON=${PYTHON:-python3}
 VENV=.venv
-DEB_PACKAGES=(python3-openvdb libegl1 libgl1-mesa-dri libcairo2)
+# libcairo2 for the drawings; calculix-ccx: the solver the FEA tests run; the libraries after it
+# are those the PyPI gmsh wheel links (GLU, X cursor / fonts / Xinerama) even when it runs headless.
+DEB_PACKAGES=(python3-openvdb libegl1 libgl1-mesa-dri libcairo2 calculix-ccx libglu1-mesa libxcursor1 libxft2
+              libxinerama1 libfontconfig1 libgomp1)
 
 missing=()
 for pkg in "${DEB_PACKAGES[@]}"; do
