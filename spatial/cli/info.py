@@ -1,8 +1,9 @@
 """`implicad info MODEL`: what a model file holds.
 
 Prints the CSG tree (indented), the bounds, node and primitive counts,
-whether the field is an exact distance or a bound, and the parameters of
-every family instance; ``--json`` prints the same as one JSON object.
+whether the field is an exact distance or a bound, the faces on the boundary
+(the names of the FEA face sets, see ``implicad fea --fix``), and the
+parameters of every family instance; ``--json`` prints the same as one JSON object.
 An assembly file lists each part.
 """
 
@@ -62,8 +63,16 @@ def summary(solid) -> dict:
         "bounds_state": state,
         "kinds": dict(sorted(kinds.items())),
         "families": fams,
+        "faces": _faces(solid),
         "tree": to_dict(solid),
     }
+
+
+def _faces(solid):
+    """The CSG faces on the boundary: the names FEA face sets get (``implicad fea --fix``)."""
+    from spatial.fea.facets import face_names
+
+    return face_names(solid)
 
 
 def _family_params(name):
@@ -100,6 +109,7 @@ def _text(name: str, solid, show_tree: bool) -> list[str]:
         else:
             text += "  (unbounded: pass --bounds x0 y0 z0 x1 y1 z1 to commands that decompose it)"
         lines.append(text)
+    lines.append("faces (FEA face sets): " + (", ".join(info["faces"]) or "none"))
     for fam in info["families"]:
         lines.append(f"family: {fam['family']}")
         for key, value in fam["params"].items():

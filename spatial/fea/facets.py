@@ -168,3 +168,32 @@ def independent_facets(ff: FacetField, points, near, count=3, parallel=0.99):
         basis[idx, taken[idx]] = resid[idx] / r[idx, None]
         taken[idx] += 1
     return out
+
+
+def face_names(solid: Solid, *, resolution: int = 48) -> list:
+    """Names of the facets that make part of the boundary of `solid` (the FEA face sets).
+
+    The boundary is meshed coarsely (`resolution` cells across), its vertices
+    are put on the surface and each is attributed to its deciding facet;
+    facets of the tree that never reach the boundary (the caps of a
+    cylinder cut through a plate) are left out.
+
+    Examples
+    --------
+    >>> from implicit import box, cylinder
+    >>> face_names(box(2.0) - cylinder(0.5, 4.0))
+    ['box_0.+x', 'box_0.+y', 'box_0.+z', 'box_0.-x', 'box_0.-y', 'box_0.-z', 'cylinder_1.wall']
+    """
+    from ..meshing.boundary import mesh
+
+    if not isinstance(solid, Solid):
+        raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
+    ff = FacetField(solid)
+    if not solid.is_bounded or solid.is_empty_bounds:
+        return list(ff.names)
+    surf = mesh(solid, resolution=resolution, progress=False)
+    if surf.n_points == 0:
+        return []
+    p = project_to_surface(solid, np.asarray(surf.points, dtype=np.float64))
+    _, dec, _ = ff(p)
+    return [ff.names[i] for i in np.unique(dec)]

@@ -4,9 +4,9 @@ The file is a complete input deck: executive control (``SOL 101``), a case
 control section, one ``BEGIN BULK``, and the bulk data ``GRID*`` (large
 field: 16-character numbers, so coordinates keep 10 significant digits),
 ``CTETRA`` (4 or 10 nodes, small field, the 10-node card continued on a
-second line), ``PSOLID`` pointing to a ``MAT1*`` of the given material, and
+second line, both marked ``+``), ``PSOLID`` pointing to a ``MAT1*`` of the given material, and
 one ``SET1`` per named face (7 ids on the first line, 8 on each
-continuation, as the card's fields allow), each preceded by a comment naming
+continuation, as the card's fields allow, continuations marked ``+``), each preceded by a comment naming
 the face.
 
 References
@@ -44,7 +44,11 @@ def nastran_set_ids(names) -> dict:
 
 
 def _set1_lines(sid, ids) -> list:
-    """A SET1 card: the id and 7 numbers on the first line, 8 on each continuation."""
+    """A SET1 card: the id and 7 numbers on the first line, 8 on each continuation line.
+
+    Every line but the last ends with ``+`` in field 10 and each continuation
+    starts with ``+`` in field 1 (the marked form every reader accepts).
+    """
     ids = np.asarray(ids, dtype=np.int64)
     first, rest = ids[:7], ids[7:]
     lines = ["SET1    " + f"{sid:>8d}" + "".join(_field8(first))]
@@ -54,7 +58,10 @@ def _set1_lines(sid, ids) -> list:
         rows = ["".join(r) for r in table]
         if pad:
             rows[-1] = rows[-1][: 8 * (8 - pad)]
-        lines.extend("        " + r for r in rows)
+        lines[0] = lines[0].ljust(72) + "+"
+        cont = ["+       " + r for r in rows]
+        cont = [c.ljust(72) + "+" for c in cont[:-1]] + cont[-1:]
+        lines.extend(cont)
     return lines
 
 
@@ -94,8 +101,9 @@ def bdf_text(mesh, *, material=None, title="implicad tetrahedral mesh") -> tuple
     for j in range(min(6, tets.shape[1])):
         head = np.char.add(head, cols[j])
     if tets.shape[1] == 10:
-        tail = np.char.add(np.char.add(np.char.add(np.char.add("\n        ", cols[6]), cols[7]), cols[8]), cols[9])
-        head = np.char.add(head, tail)
+        # Field 10 of the first line and field 1 of the second mark the continuation.
+        tail = np.char.add(np.char.add(np.char.add(np.char.add("+\n+       ", cols[6]), cols[7]), cols[8]), cols[9])
+        head = np.char.add(np.char.ljust(head, 72), tail)
     out.extend(head.tolist())
     out.append("PSOLID  " + f"{1:>8d}{1:>8d}")
     e, nu, rho = _real16([mat.E, mat.nu, mat.rho])

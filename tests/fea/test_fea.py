@@ -15,7 +15,7 @@ from implicit import box, cylinder, sphere, torus
 from spatial.fea.files import FEA_FORMATS, set_name, write_fea
 from spatial.fea.surface import FacetField, project_to_surface, self_intersections, surface_for_fea, surface_quality
 from spatial.fea.quality import dihedral_angles, radius_edge_ratio, scaled_jacobian, tet_quality, tet_volumes
-from spatial.fea.tetmesh import SIDE_NODES, MeshQualityWarning, tet_mesh
+from spatial.fea.tetmesh import SIDE_NODES, MeshQualityError, MeshQualityWarning, tet_mesh
 
 #: Quality every mesh must reach (degrees), and volume agreement with closed forms.
 MIN_DIHEDRAL = 10.0
@@ -251,12 +251,13 @@ def test_quadratic_tets_put_boundary_midnodes_on_the_surface():
     linear = tet_volumes(m.points, m.tets[:, :4]).sum()
     assert abs(m.volume - exact) < abs(linear - exact) / 5
     assert m.volume == pytest.approx(exact, rel=2e-3)
-    # Interior mid nodes are edge midpoints.
+    # Interior mid nodes stay near their edge midpoints (they follow the curved boundary a little).
     mids = m.tets[:, 4:]
     ends = m.tets[:, [0, 1, 0, 0, 1, 2]], m.tets[:, [1, 2, 2, 3, 3, 3]]
     straight = 0.5 * (m.points[ends[0]] + m.points[ends[1]])
     interior = ~np.isin(mids, boundary_nodes)
-    np.testing.assert_allclose(m.points[mids][interior], straight[interior], atol=1e-14)
+    off = np.linalg.norm(m.points[mids][interior] - straight[interior], axis=1)
+    assert off.max() < 0.1 * 0.12
 
 
 def test_box_with_hole_mesh_volume():
@@ -271,9 +272,9 @@ def test_box_with_hole_mesh_volume():
 def test_steiner_cap_is_reported():
     surf = pv.Icosphere(radius=1.0, nsub=3)
     with pytest.warns(MeshQualityWarning, match="Steiner-point cap"):
+        tet_mesh(sphere(1.0), size=0.1, surface=surf, steiner_cap=10, volume_tolerance=0.1, allow_poor=True)
+    with pytest.raises(MeshQualityError, match="Steiner-point cap"):
         tet_mesh(sphere(1.0), size=0.1, surface=surf, steiner_cap=10, volume_tolerance=0.1)
-    with pytest.raises(ValueError, match="Steiner-point cap"):
-        tet_mesh(sphere(1.0), size=0.1, surface=surf, steiner_cap=10, volume_tolerance=0.1, strict=True)
 
 
 def test_tet_mesh_checks_arguments():
@@ -320,17 +321,18 @@ def test_files_read_back(tmp_path, bench_tets, name, version):
     assert len(tets) == 1
     np.testing.assert_array_equal(_in_original_order(back.points, tets[0], bench_tets.points), bench_tets.tets)
     if name.endswith(".inp"):
-        assert set_name("cylinder_2.wall") in back.point_sets
-        np.testing.assert_array_equal(np.sort(back.point_sets["cylinder_2_wall"]),
+        assert "CYLINDER_2_WALL" in back.point_sets
+        np.testing.assert_array_equal(np.sort(back.point_sets["CYLINDER_2_WALL"]),
                                       bench_tets.node_sets["cylinder_2.wall"])
         text = path.read_text()
-        assert "*SURFACE, NAME=CYLINDER_2_WALL_FACES, TYPE=ELEMENT" in text
+        assert "*SURFACE, NAME=CYLINDER_2_WALL_F, TYPE=ELEMENT" in text
+        assert "*ELEMENT, TYPE=C3D4, ELSET=EALL" in text
     if name.endswith(".msh"):
-        assert "cylinder_2_wall" in back.field_data
+        assert "cylinder_2.wall" in back.field_data
         tri = [c.data for c in back.cells if c.type == "triangle"]
         assert sum(len(t) for t in tri) == len(bench_tets.boundary)
         # Each physical group holds its region's triangles.
-        tag = back.field_data["cylinder_2_wall"][0]
+        tag = back.field_data["cylinder_2.wall"][0]
         phys = np.concatenate([p for c, p in zip(back.cells, back.cell_data["gmsh:physical"]) if c.type == "triangle"])
         assert np.sum(phys == tag) == len(bench_tets.face_sets["cylinder_2.wall"])
     assert [p.name for p in tmp_path.iterdir()] == [name]  # no temporary left behind
@@ -383,10 +385,17 @@ def test_cli_meshes_a_model(tmp_path, capsys):
     model = tmp_path / "ball.py"
     model.write_text("from implicit import sphere\nsolid = sphere(1.0)\n")
     out = tmp_path / "ball.inp"
+    # Flat 4-node elements at size 0.3 miss 3.6 % of the ball: refused, nothing written.
     status = main(["fea", str(model), "-o", str(out), "--size", "0.3", "--no-progress"])
-    text = capsys.readouterr().out
+    err = capsys.readouterr().err
+    assert status == 1 and not out.exists() and list(tmp_path.iterdir()) == [model]
+    assert "differs from the solid's 4.18" in err and "nothing written" in err
+    status = main(["fea", str(model), "-o", str(out), "--size", "0.3", "--no-progress", "--allow-poor"])
+    captured = capsys.readouterr()
+    text = captured.out
+    assert "warning: mesh volume" in captured.err
     assert status == 0 and out.exists()
-    assert "min dihedral (deg)" in text and "boundary sets: sphere_0" in text
+    assert "min dihedral (deg)" in text and "sphere_0 -> SPHERE_0" in text
     back = meshio.read(out)
     assert back.cells[0].type == "tetra"
 
