@@ -28,7 +28,8 @@ from .surface import FacetField, facet_field, project_to_surface, self_intersect
 from .quality import TetQuality, tet_quality, dihedral_angles, radius_edge_ratio, scaled_jacobian
 from .tetmesh import MeshQualityWarning, TetMesh, tet_mesh
 from .files import FEA_FORMATS, set_names, write_fea, to_meshio
-from .deck import MATERIALS, Material, parse_load, parse_material, write_static_deck
+from .deck import MATERIALS, Material, face_nodal_loads, parse_load, parse_material, static_deck_text, \
+    write_static_deck
 from .frd import read_frd, von_mises
 from .solve import StaticResult, calculix_path, run_calculix
 
@@ -36,7 +37,7 @@ __all__ = [
     "FacetField", "facet_field", "project_to_surface", "self_intersections", "surface_for_fea",
     "surface_quality", "SurfaceQuality", "TetQuality", "tet_quality", "dihedral_angles",
     "radius_edge_ratio", "scaled_jacobian", "MeshQualityWarning", "TetMesh", "tet_mesh",
-    "FEA_FORMATS", "set_names", "write_fea", "to_meshio", "MATERIALS", "Material", "parse_load",
+    "FEA_FORMATS", "set_names", "write_fea", "to_meshio", "MATERIALS", "Material", "face_nodal_loads", "parse_load", "static_deck_text",
     "parse_material", "write_static_deck", "read_frd", "von_mises", "StaticResult", "calculix_path",
     "run_calculix",
 ]

@@ -95,23 +95,29 @@ def _face_names(mesh):
 
 
 def _write_vtu(mesh, path):
-    import meshio
+    import pyvista as pv
 
     tri_type, tri = _boundary_cells(mesh)
     region, names = _region_ids(mesh)
-    point_data = {}
+    quadratic = mesh.order == 2
+    cells = {pv.CellType.QUADRATIC_TETRA if quadratic else pv.CellType.TETRA: np.asarray(mesh.tets),
+             pv.CellType.QUADRATIC_TRIANGLE if quadratic else pv.CellType.TRIANGLE: np.asarray(tri)}
+    grid = pv.UnstructuredGrid(cells, np.asarray(mesh.points, dtype=np.float64))
+    # pyvista orders the blocks by cell type: tetrahedra (10, 24) come after triangles (5, 22).
+    is_tet = np.isin(np.asarray(grid.celltypes), [pv.CellType.TETRA, pv.CellType.QUADRATIC_TETRA])
+    cell_region = np.zeros(grid.n_cells, dtype=np.int64)
+    cell_region[~is_tet] = region
+    grid.cell_data["region"] = cell_region
     for k, v in mesh.node_sets.items():
         mask = np.zeros(len(mesh.points), dtype=np.uint8)
         mask[v] = 1
-        point_data[f"nodeset_{set_name(k)}"] = mask
-    # Region names travel as field data: one array per name holding its region number
-    # (the `region` cell data of the boundary triangles; 0 is the volume).
-    field_data = {k: np.array([i + 1], dtype=np.int64) for i, k in enumerate(names)}
-    field_data["volume"] = np.array([0], dtype=np.int64)
-    m = meshio.Mesh(np.asarray(mesh.points), [(_cell_type(mesh), np.asarray(mesh.tets)), (tri_type, tri)],
-                    point_data=point_data, cell_data={"region": [np.zeros(len(mesh.tets), dtype=np.int64), region]},
-                    field_data=field_data)
-    _atomic_write(path, lambda tmp: meshio.write(tmp, m, file_format="vtu"))
+        grid.point_data[f"nodeset_{set_name(k)}"] = mask
+    # Region names travel as field data (meshio's writer drops it, so pyvista writes the file):
+    # one array per name holding its number in the `region` cell data; 0 is the volume.
+    for i, k in enumerate(names):
+        grid.field_data[k] = np.array([i + 1], dtype=np.int64)
+    grid.field_data["volume"] = np.array([0], dtype=np.int64)
+    _atomic_write(path, lambda tmp: grid.save(tmp, binary=True))
 
 
 def _write_bdf(mesh, path, material=None):

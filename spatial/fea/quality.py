@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["TetQuality", "tet_quality", "dihedral_angles", "radius_edge_ratio", "scaled_jacobian", "tet_volumes"]
+__all__ = ["TetQuality", "tet_quality", "dihedral_angles", "gamma", "radius_edge_ratio", "scaled_jacobian", "tet_volumes"]
 
 # Faces opposite each corner, and the six edges as (i, j) with the two faces
 # that share them (the faces opposite the other two corners).
@@ -73,6 +73,28 @@ def radius_edge_ratio(points, tets) -> np.ndarray:
     r = np.linalg.norm(num, axis=1) / np.maximum(np.abs(det), 1e-300)
     e = np.linalg.norm(x[:, _EDGES[:, 1]] - x[:, _EDGES[:, 0]], axis=2)
     return r / np.maximum(e.min(axis=1), 1e-300)
+
+
+def gamma(points, tets) -> np.ndarray:
+    """Inradius over circumradius, times 3 (1 for the regular tetrahedron, 0 for a flat one):
+    the ``gamma`` gmsh reports, computed for the corner tetrahedra ``(m,)``.
+
+    Examples
+    --------
+    >>> p = [[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]]
+    >>> round(float(gamma(p, [[0, 1, 2, 3]])[0]), 6)
+    1.0
+    """
+    x = np.asarray(points, dtype=np.float64)[np.asarray(tets)[:, :4]]
+    a, b, c = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], x[:, 3] - x[:, 0]
+    num = (np.einsum("ij,ij->i", a, a)[:, None] * np.cross(b, c) + np.einsum("ij,ij->i", b, b)[:, None] * np.cross(c, a)
+           + np.einsum("ij,ij->i", c, c)[:, None] * np.cross(a, b))
+    det = np.einsum("ij,ij->i", a, np.cross(b, c))  # 6 V
+    circum = np.linalg.norm(num, axis=1) / np.maximum(2.0 * np.abs(det), 1e-300)
+    faces = x[:, _OPP]
+    area = 0.5 * np.linalg.norm(np.cross(faces[:, :, 1] - faces[:, :, 0], faces[:, :, 2] - faces[:, :, 0]), axis=2).sum(axis=1)
+    inradius = 0.5 * np.abs(det) / np.maximum(area, 1e-300)  # 3 V / area
+    return 3.0 * inradius / np.maximum(circum, 1e-300)
 
 
 # Derivatives of the 10-node shape functions in barycentric form at the

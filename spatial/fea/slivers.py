@@ -19,7 +19,7 @@ import numpy as np
 
 from .facets import project_to_surface
 from .model import SIDE_NODES
-from .quality import dihedral_angles, radius_edge_ratio, tet_volumes
+from .quality import dihedral_angles, gamma, radius_edge_ratio, tet_volumes
 
 __all__ = ["boundary_faces", "element_score", "flip23", "improve", "peel", "score"]
 
@@ -48,12 +48,18 @@ def score(d, min_dihedral, max_dihedral):
     return np.minimum(lo, hi)
 
 
-def element_score(points, tets, min_dihedral, max_dihedral, radius_edge=None):
+#: gmsh's gamma (3 inradius / circumradius) the smoothing aims at: lower counts as a small angle.
+SMOOTH_GAMMA = 0.25
+
+
+def element_score(points, tets, min_dihedral, max_dihedral, radius_edge=None, min_gamma=SMOOTH_GAMMA):
     """`score` of the elements, with a radius-edge ratio above `radius_edge` scored as a
     dihedral angle under the minimum (the ratio over the limit scales it down)."""
     sc = score(dihedral_angles(points, tets), min_dihedral, max_dihedral)
     if radius_edge is not None:
         sc = np.minimum(sc, min_dihedral * radius_edge / np.maximum(radius_edge_ratio(points, tets), 1e-300))
+    if min_gamma:
+        sc = np.minimum(sc, min_dihedral * gamma(points, tets) / min_gamma)
     return sc
 
 
