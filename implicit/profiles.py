@@ -37,6 +37,8 @@ __all__ = [
 
 #: Points per block in the (points x edges) polygon distance.
 _BLOCK = 2048
+#: Polygons with at least this many edges are measured by the compiled loop (`polygon_kernel`).
+POLYGON_KERNEL_EDGES = 48
 
 #: Most vertices of a polygon profile (its validation checks all edge pairs).
 MAX_POLYGON_VERTICES = 20000
@@ -68,7 +70,7 @@ def polygon_distance(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
     Distances to all ``m`` edges at once (an ``(n, m)`` array), the sign from
     the crossing parity of a ray in +x (Quilez's ``sdPolygon``, vectorized).
     Polygons of many edges (a gear's outline) go through a compiled loop over
-    the same arithmetic instead (`_POLYGON_KERNEL_EDGES`): no ``(n, m)``
+    the same arithmetic instead (`POLYGON_KERNEL_EDGES`): no ``(n, m)``
     temporaries, about twenty times faster at 200 edges.
 
     Examples
@@ -78,9 +80,11 @@ def polygon_distance(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
     >>> polygon_distance(np.array([[0.5, 0.5], [2.0, 0.5]]), sq).tolist()
     [-0.5, 1.0]
     """
-    if len(vertices) >= _POLYGON_KERNEL_EDGES and len(points) >= 64:
+    if len(vertices) >= POLYGON_KERNEL_EDGES and len(points) >= 64:
         out = np.empty(len(points))
-        _polygon_kernel()(np.ascontiguousarray(points[:, 0], dtype=np.float64),
+        from .polygon_kernel import polygon_kernel
+
+        polygon_kernel()(np.ascontiguousarray(points[:, 0], dtype=np.float64),
                           np.ascontiguousarray(points[:, 1], dtype=np.float64),
                           np.ascontiguousarray(vertices[:, 0], dtype=np.float64),
                           np.ascontiguousarray(vertices[:, 1], dtype=np.float64), out)
@@ -103,41 +107,6 @@ def polygon_distance(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
     inside = np.count_nonzero(flips, axis=1) % 2 == 1
     d = np.sqrt(d2)
     return np.where(inside, -d, d)
-
-
-#: Polygons with at least this many edges are measured by the compiled loop.
-_POLYGON_KERNEL_EDGES = 48
-_KERNEL = []
-
-
-def _polygon_kernel():
-    """The compiled form of `polygon_distance` (built on first use: numba is imported lazily)."""
-    if not _KERNEL:
-        import numba
-
-        @numba.njit(cache=False)
-        def kernel(px, py, vx, vy, out):  # pragma: no cover - compiled
-            m = vx.size
-            for i in range(px.size):
-                x, y = px[i], py[i]
-                best = np.inf
-                inside = False
-                for j in range(m):
-                    k = j + 1 if j + 1 < m else 0
-                    ex, ey = vx[k] - vx[j], vy[k] - vy[j]
-                    wx, wy = x - vx[j], y - vy[j]
-                    t = (wx * ex + wy * ey) / (ex * ex + ey * ey)
-                    t = min(max(t, 0.0), 1.0)
-                    bx, by = wx - t * ex, wy - t * ey
-                    best = min(best, bx * bx + by * by)
-                    c1, c2, c3 = y >= vy[j], y < vy[k], ex * wy > ey * wx
-                    if (c1 and c2 and c3) or (not c1 and not c2 and not c3):
-                        inside = not inside
-                d = np.sqrt(best)
-                out[i] = -d if inside else d
-
-        _KERNEL.append(kernel)
-    return _KERNEL[0]
 
 
 def _segments_cross(vertices: np.ndarray) -> bool:
