@@ -212,7 +212,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     expected_nodes = int(enclosed / (_REGULAR_VOLUME * size**3) / 5.0) + len(spts)
     cap = int(steiner_cap) if steiner_cap is not None else 20 * expected_nodes + 1000
     tg = tetgen.TetGen(spts, sfaces.astype(np.int32))
-    switches = (f"pq{min(radius_edge, TETGEN_RADIUS_EDGE):g}/{min_dihedral:g}a{_REGULAR_VOLUME * size**3:.6g}"
+    switches = (f"pq{min(radius_edge, TETGEN_RADIUS_EDGE):g}/{min(min_dihedral, TETGEN_MIN_DIHEDRAL):g}a{_REGULAR_VOLUME * size**3:.6g}"
                 f"o/{max_dihedral:g}O9/7S{cap}{_KEEP_SURFACE}Q")
     try:
         with _scratch_directory(), _native_stdout_silenced():
@@ -304,6 +304,9 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
 
 #: The radius-edge ratio TetGen refines to at most.
 TETGEN_RADIUS_EDGE = 1.5
+#: The smallest dihedral angle TetGen is asked for at most: its refinement need not end for
+#: bounds much above 10 to 18 degrees; the smoothing and the final check take care of the rest.
+TETGEN_MIN_DIHEDRAL = 10.0
 
 #: Finer surface sizes tried, as factors of `size`, when the surface intersects itself at `size`.
 SURFACE_RETRIES = (1.0, 0.8, 0.64, 0.512)

@@ -85,8 +85,9 @@ def test_beam_meshes_at_size_equal_to_its_thickness(tmp_path):
 
 def test_touching_boxes_mesh_and_solve(tmp_path):
     part = box((10, 10, 10), center=(5, 5, 5)) | box((5, 10, 5), center=(12.5, 5, 2.5))
-    for size in (2.0, 1.0):
-        m = tet_mesh(part, size=size, reference_volume=1250.0)
+    meshes = {}
+    for size in (1.0, 2.0):
+        m = meshes[size] = tet_mesh(part, size=size, reference_volume=1250.0)
         # The two boxes share the face x = 10 below z = 5: no crack there; the concave edge is
         # kept (a vertex left 0.16 off a convex edge at size 1 costs 6e-5 of the volume).
         assert m.volume == pytest.approx(1250.0, rel=1e-4)
@@ -260,9 +261,7 @@ def test_vtu_carries_region_names(beam2, tmp_path):
 
 
 def test_radius_edge_is_honoured_or_the_mesh_fails():
-    plate = box((40, 20, 5)) - cylinder(4, 20)
-    volume = 40 * 20 * 5 - np.pi * 16 * 5
-    m = tet_mesh(plate, size=2.0, radius_edge=3.0, reference_volume=volume)
+    m = tet_mesh(BEAM, size=5.0, radius_edge=3.0, reference_volume=10000.0)
     assert m.quality.max_radius_edge <= 3.0
     # A plate as thin as a twentieth of its elements: the surface TetGen keeps forces long
     # elements against its faces, and the mesh is refused rather than passed off.
@@ -271,7 +270,7 @@ def test_radius_edge_is_honoured_or_the_mesh_fails():
     with pytest.raises(MeshQualityError, match="radius-edge ratio up to .* over the asked 3"):
         tet_mesh(slab, size=10.0, surface=surface, reference_volume=50.0)
     with pytest.raises(MeshQualityError, match="dihedral angles"):
-        tet_mesh(plate, size=2.0, min_dihedral=40.0, reference_volume=volume)
+        tet_mesh(BEAM, size=10.0, min_dihedral=40.0, reference_volume=10000.0)
 
 
 def test_volume_is_checked_against_the_solid_not_the_mesh():
@@ -328,6 +327,6 @@ def test_cli_deck_solve_and_results(tmp_path, capsys):
     err = capsys.readouterr().err
     assert status == 2 and "no face named 'box_0.top'" in err and not (tmp_path / "x.inp").exists()
     # A mesh under the asked minimum dihedral: exit 1, no file.
-    status = main(["fea", str(model), "-o", str(tmp_path / "y.msh"), "--size", "5", "--min-dihedral", "45"])
+    status = main(["fea", str(model), "-o", str(tmp_path / "y.msh"), "--size", "10", "--min-dihedral", "45"])
     err = capsys.readouterr().err
     assert status == 1 and "nothing written" in err and not (tmp_path / "y.msh").exists()
