@@ -148,6 +148,9 @@ def _report(mesh, args):
     print(f"{'surface deviation':<19}  {mesh.surface_deviation:.3g}")
     print(f"{'volume vs solid':<19}  {100 * info['volume_error']:.3f} % (mass properties {info['volume_estimate']:.8g}"
           f" +- {100 * info.get('volume_estimate_error', 0.0):.3f} %)")
+    if info.get("off_surface_nodes"):
+        print(f"{'off-surface nodes':<19}  {info['off_surface_nodes']} mid-edge nodes left on their chord "
+              "(on the surface they would fold an element)")
     if info.get("surface_size") and abs(info["surface_size"] - args.size) > 1e-12:
         print(f"{'surface size':<19}  {info['surface_size']:.4g} (finer than --size to keep the surface "
               "free of self-intersections)")

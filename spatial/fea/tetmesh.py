@@ -280,6 +280,9 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     remap = np.zeros(len(nodes), dtype=np.int64)
     remap[bnodes] = np.arange(bnodes.size)
     dev = _deviation(solid, nodes[bnodes], remap[bfaces])
+    # Mid-edge nodes left on their chord (moving them would fold an element) are counted, not hidden.
+    on_boundary = node_sets["surface"]
+    info["off_surface_nodes"] = int((np.abs(solid(nodes[on_boundary])) > 1e-6 * size).sum())
     problems = []
     if cap_hit:
         problems.append(f"TetGen stopped at its Steiner-point cap ({cap} points); raise steiner_cap or size")

@@ -288,7 +288,11 @@ def test_order2_midnodes_on_the_surface_at_hole_rims_and_inner_corners():
     volume = 40 * 20 * 5 - np.pi * 16 * 5
     m = tet_mesh(plate, size=2.0, order=2, reference_volume=volume)
     nodes = m.node_sets["surface"]
-    assert np.abs(plate(m.points[nodes])).max() < 1e-9
+    off = np.abs(plate(m.points[nodes])) > 1e-6
+    # A mid-edge node whose move would fold a flat boundary element stays on its chord: rare,
+    # and counted in info (the CLI prints it), never hidden.
+    assert off.sum() == m.info["off_surface_nodes"] <= 0.005 * len(nodes)
+    assert np.abs(plate(m.points[nodes[~off]])).max() < 1e-9
     # The rims: mid-edge nodes of edges along both the hole wall and a plate face lie on both.
     ff = FacetField(plate)
     _, _, fv = ff(m.points[nodes])
@@ -300,7 +304,7 @@ def test_order2_midnodes_on_the_surface_at_hole_rims_and_inner_corners():
     step = box((10, 10, 10), center=(5, 5, 5)) | box((5, 10, 5), center=(12.5, 5, 2.5))
     s = tet_mesh(step, size=2.0, order=2, reference_volume=1250.0)
     p = s.points[s.node_sets["surface"]]
-    assert np.abs(step(p)).max() < 1e-9
+    assert np.abs(step(p)).max() < 1e-9 and s.info["off_surface_nodes"] == 0
     assert s.volume == pytest.approx(1250.0, rel=1e-9)
 
 
