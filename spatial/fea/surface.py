@@ -431,12 +431,14 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         except ImportError as exc:
             raise ImportError("surface_for_fea needs spatial.mesh to mesh a Solid; pass a surface mesh instead") from exc
         h = voxel_size or size / 4.0
-        # The feature mesh (its edges and corners are where the CSG faces meet, not chamfers) of
-        # the solid grown by a twentieth of a voxel: where two solids of a union touch face to
-        # face the field is exactly 0 inside the part, and marching cubes would open a crack there.
+        # The plain marching-cubes mesh of the solid grown by a twentieth of a voxel: where two
+        # solids of a union touch face to face the field is exactly 0 inside the part, and
+        # marching cubes would open a crack there.  The feature snapping below puts the edges
+        # and corners back (with the feature mesh as the start the 10 mm beam at size 10 lost
+        # 1.2 percent of its volume, and touching boxes needed a finer surface).
         from implicit.modifiers import offset as _offset
 
-        mesh = _mesh_solid(_offset(solid, 0.05 * h), voxel_size=h, features=True)
+        mesh = _mesh_solid(_offset(solid, 0.05 * h), voxel_size=h)
     if mesh.n_cells == 0:
         raise ValueError("solid_or_mesh: the mesh has no cells")
 
