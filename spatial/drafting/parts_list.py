@@ -1,14 +1,18 @@
-"""The parts list (bill of materials) of an assembly: item, name, family and
-parameters, material, mass and count, identical parts counted together;
-drawn as a table above the title block (ISO 7573: the header at the bottom,
-items upwards) and written as CSV.
+"""The parts list of an assembly drawing: the analysis room's bill of materials, drawn.
+
+Rows come from `spatial.analysis.bom.bill_of_materials` (identical parts,
+whatever their placement, counted together; volumes from `mass_properties`),
+so a drawing's parts list and ``implicad bom`` agree row for row.  Drawn as a
+table above the title block (ISO 7573: the header at the bottom, items
+upwards) and written as CSV.
 
 Examples
 --------
 >>> from implicit import box
->>> rows = parts_list({"a": box(10), "b": box(10).translate((30, 0, 0))}, {"a": 1000.0, "b": 1000.0},
-...                   material="steel", density=7850.0)
->>> [(r.item, r.name, r.count, round(r.mass, 6)) for r in rows]
+>>> from spatial.analysis.bom import bill_of_materials
+>>> bom = bill_of_materials({"a": box(10), "b": box(10).translate((30, 0, 0))}, default_material="steel",
+...                         resolution=64)
+>>> [(r.item, r.name, r.count, round(r.mass, 5)) for r in parts_list(bom, {"a": box(10), "b": box(10)})]
 [(1, 'a', 2, 0.00785)]
 """
 
@@ -21,14 +25,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analysis.bom import MATERIALS  # noqa: F401  (the densities the drawing knows by name)
 from ..files import atomic_write
 from .model import Group, text_width
 
 __all__ = ["PartRow", "parts_list", "describe", "write_csv", "draw_parts_list", "MATERIALS"]
-
-#: Densities (kg/m^3) of the materials the command knows by name.
-MATERIALS = {"steel": 7850.0, "stainless steel": 8000.0, "aluminium": 2700.0, "brass": 8500.0,
-             "cast iron": 7200.0, "titanium": 4430.0, "ABS": 1050.0, "nylon": 1150.0}
 
 #: Column titles and widths (mm) of the drawn table; 180 mm, the title block's width.
 COLUMNS = (("ITEM", 12.0), ("NAME", 28.0), ("FAMILY / PARAMETERS", 80.0), ("MATERIAL", 22.0),
@@ -70,18 +71,13 @@ def describe(solid) -> tuple[str, str]:
     return "CSG", f"{node.count_primitives()} primitives, {node.count_nodes()} nodes"
 
 
-def parts_list(parts: dict, volumes: dict, *, material: str = "steel", density: float = 7850.0) -> list[PartRow]:
-    """Rows of the parts list; `volumes` in mm^3, `density` in kg/m^3, masses in kg."""
-    from implicit.serialize import to_json
-
-    groups: dict[str, list[str]] = {}
-    for name, solid in parts.items():
-        groups.setdefault(to_json(_untranslated(solid)), []).append(name)
+def parts_list(bom, parts: dict) -> list[PartRow]:
+    """Rows of the drawn parts list from a `BillOfMaterials` of `parts`; masses in kg (per part)."""
     rows = []
-    for item, names in enumerate(groups.values(), start=1):
-        family, params = describe(parts[names[0]])
-        mass = float(volumes[names[0]]) * density * 1e-9
-        rows.append(PartRow(item, names[0], family, params, material, mass, len(names), tuple(names)))
+    for it in bom.items:
+        family, params = describe(parts[it.names[0]])
+        rows.append(PartRow(it.item, it.names[0], family, params, it.material,
+                            float(it.mass) if it.mass is not None else float("nan"), it.count, tuple(it.names)))
     return rows
 
 

@@ -87,3 +87,14 @@ def test_bad_assembly_input():
         assembly_drawing({"a": box(1)}, axis="w")
     with pytest.raises(ValueError, match="material: expected one of steel"):
         assembly_drawing({"a": box(1)}, material="cheese")
+
+
+def test_parts_list_is_the_bill_of_materials(example, sheet):
+    from spatial.analysis.bom import bill_of_materials
+
+    _, rows = sheet
+    bom = bill_of_materials(example, default_material="steel", units="mm", resolution=64)
+    assert [(r.item, r.names, r.count, r.material) for r in rows] == \
+        [(it.item, tuple(it.names), it.count, it.material) for it in bom.items]
+    for r, it in zip(rows, bom.items):
+        assert r.mass == pytest.approx(it.mass, rel=1e-12)
