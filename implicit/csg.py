@@ -207,6 +207,49 @@ def bound_slack(solid: Solid) -> float:
     return worst
 
 
+def grown_bounds(solid: Solid, t: float):
+    """Bounds of ``{p : f(p) < t}`` for ``t >= 0``: where an offset or a shell of `solid` reaches.
+
+    Padding the solid's own bounds by ``t * bound_slack`` is not enough below
+    an intersection: ``max(a, b) < t`` only puts ``p`` within ``t`` of each
+    child, and the two grown children can overlap well outside the grown
+    intersection (two slabs crossing at a small angle).  So sharp Booleans
+    grow their children first, then combine; an affine node grows its child
+    by ``t`` over its scale factor and maps the box; half-spaces shift their
+    planes.  Other nodes pad their bounds by ``t * bound_slack``.
+    """
+    from .primitives import HalfSpace
+    from .transforms import Affine
+
+    t = float(t)
+    lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
+    if t <= 0:
+        return lo, hi
+    if isinstance(solid, Difference):
+        return grown_bounds(solid.children[0], t)
+    if isinstance(solid, (Union, Intersection)):
+        parts = [grown_bounds(c, t) for c in solid.children]
+        los, his = np.array([q[0] for q in parts]), np.array([q[1] for q in parts])
+        if isinstance(solid, Union):
+            return los.min(axis=0), his.max(axis=0)
+        glo, ghi = los.max(axis=0), his.min(axis=0)
+        planes = [c for c in solid.children if isinstance(c, HalfSpace)]
+        if planes and not (np.all(np.isfinite(glo)) and np.all(np.isfinite(ghi))):
+            shifted = [HalfSpace(c.params["normal"], np.asarray(c.params["point"]) + t * np.asarray(c.params["normal"]))
+                       for c in planes]
+            glo, ghi = _halfspace_box(shifted, glo, ghi)
+        return glo, np.maximum(ghi, glo)
+    if isinstance(solid, Affine):
+        clo, chi = grown_bounds(solid.children[0], t / solid._factor)
+        a, off = solid._matrix, solid._offset
+        with np.errstate(invalid="ignore"):
+            c_lo = np.where(a == 0.0, 0.0, a * clo)
+            c_hi = np.where(a == 0.0, 0.0, a * chi)
+        return np.minimum(c_lo, c_hi).sum(axis=1) + off, np.maximum(c_lo, c_hi).sum(axis=1) + off
+    pad = t * bound_slack(solid)
+    return lo - pad, hi + pad
+
+
 def _smin(a, b, k):
     """Polynomial smooth minimum of radius `k` (1-Lipschitz when a, b are)."""
     h = np.clip(0.5 + 0.5 * (b - a) / k, 0.0, 1.0)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .csg import bound_slack
+from .csg import grown_bounds
 from .solid import Solid, as_finite, as_positive, register_operator
 
 __all__ = ["Offset", "Shell", "offset", "shell"]
@@ -26,11 +26,9 @@ class Offset(Solid):
         if not isinstance(solid, Solid):
             raise TypeError(f"offset: solid must be a Solid, got {type(solid).__name__}")
         d = as_finite(distance, "distance")
-        lo, hi = solid.bounds
         # A bound field grows farther than `d` beyond the child's bounds where it
-        # underestimates the distance: scale by the child's slack.
-        pad = max(d, 0.0) * bound_slack(solid)
-        super().__init__((solid,), {"distance": d}, (lo - pad, hi + pad),
+        # underestimates the distance, and an intersection farther than its own box.
+        super().__init__((solid,), {"distance": d}, grown_bounds(solid, max(d, 0.0)),
                          exact=solid.exact and d == 0, lipschitz=solid.lipschitz)
 
     def _evaluate(self, p):
@@ -52,9 +50,7 @@ class Shell(Solid):
         if not isinstance(solid, Solid):
             raise TypeError(f"shell: solid must be a Solid, got {type(solid).__name__}")
         t = as_positive(thickness, "thickness")
-        lo, hi = solid.bounds
-        pad = t / 2 * bound_slack(solid)
-        super().__init__((solid,), {"thickness": t}, (lo - pad, hi + pad),
+        super().__init__((solid,), {"thickness": t}, grown_bounds(solid, t / 2),
                          exact=False, lipschitz=solid.lipschitz)
 
     def _evaluate(self, p):

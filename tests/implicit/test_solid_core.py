@@ -197,3 +197,18 @@ def test_as_points_returns_float64():
     arr = as_points([[1, 2, 3]])
     assert arr.dtype == np.float64
     assert isinstance(im.sphere(1), Solid)
+
+
+def test_shell_and_offset_of_an_intersection_stay_inside_their_bounds():
+    # Two cubes 0.1 apart: their intersection is empty, its bounds are empty, but max(a, b) < t
+    # holds in the gap between them, so a shell or an offset of it is not empty; moved away, the
+    # empty bounds used to stay where they were (fuzz seed 3796).
+    import implicit as I
+
+    both = (I.box(1.0) & I.box(1.0, center=(1.1, 0.0, 0.0))).rotate(90, axis=(0, 0, 1)).translate((5, 0, 0))
+    pts = np.random.default_rng(7).uniform(-1.5, 2.5, (400_000, 3)) + (5.0, 0.5, 0.0)
+    for solid in (I.shell(both, 0.3), I.offset(both, 0.15)):
+        lo, hi = solid.bounds
+        inside = solid(pts) < 0
+        assert inside.sum() > 100
+        assert np.all((pts[inside] >= lo - 1e-12) & (pts[inside] <= hi + 1e-12))
