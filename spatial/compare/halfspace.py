@@ -1,8 +1,8 @@
 """Half-space form: a polyhedral solid as a union of disjoint convex pieces.
 
 Where every leaf of a CSG tree is a planar half-space or a convex polyhedron
-(box, half-space, convex polyhedron, extruded convex polygon, under affine
-maps), the tree is expanded into disjoint convex pieces, each an
+(box, half-space, convex polyhedron, extruded polygon cut into trapezoids,
+under affine maps), the tree is expanded into disjoint convex pieces, each an
 intersection of planes ``n . p <= d``: a union is the pieces of both sides
 with the first removed from the second, an intersection the pairwise
 intersections, and the complement of a convex piece ``p_1 .. p_k`` the
@@ -133,8 +133,7 @@ def _pieces(node, matrix, offset):
             for k in kids[1:]:
                 out = out + _meet(k, _complement(out))
             return out
-    planes = leaf_planes(node, matrix, offset)
-    return None if planes is None else [planes]
+    return leaf_planes(node, matrix, offset)
 
 
 def half_space_form(solid):

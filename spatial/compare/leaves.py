@@ -72,34 +72,66 @@ def _local_planes(node):
         return n, np.einsum("ij,ij->i", n, pts)
     if kind == "extrude" and P["profile"].get("kind") == "polygon":
         from implicit.sweeps import rotation_to_axis
-        v = np.asarray(P["profile"]["vertices"], float)
-        d = np.roll(v, -1, axis=0) - v
-        cross = v[:, 0] * np.roll(v[:, 1], -1) - np.roll(v[:, 0], -1) * v[:, 1]
-        if cross.sum() < 0:  # make it counter-clockwise
-            v, d = v[::-1], -d[::-1]
-            d = np.roll(v, -1, axis=0) - v
-        turn = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
-        if np.any(turn < -1e-12):
-            return None  # not convex
-        n2 = np.column_stack([d[:, 1], -d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
-        n = np.vstack([np.column_stack([n2, np.zeros(len(v))]), [[0, 0, 1.0], [0, 0, -1.0]]])
-        off = np.concatenate([np.einsum("ij,ij->i", n2, v), [P["height"] / 2, P["height"] / 2]])
         R = rotation_to_axis(P["axis"])
         c = np.asarray(P["center"], float)
-        nw = n @ R.T
-        return nw, off + nw @ c
+        hh = P["height"] / 2
+        out = []
+        for n2, d2 in trapezoids(np.asarray(P["profile"]["vertices"], float)):
+            n = np.vstack([np.column_stack([n2, np.zeros(len(n2))]), [[0, 0, 1.0], [0, 0, -1.0]]])
+            d = np.concatenate([d2, [hh, hh]])
+            nw = n @ R.T
+            out.append((nw, d + nw @ c))
+        return out
     return None
 
 
+def trapezoids(vertices) -> list:
+    """Convex pieces of a simple polygon: its slabs between vertex heights cut into trapezoids.
+
+    Returns ``[(normals (4, 2), offsets (4,)), ...]`` with ``n . p <= d`` inside.
+
+    Examples
+    --------
+    >>> len(trapezoids(np.array([[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]], float)))   # an L: two
+    2
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    a, b = v, np.roll(v, -1, axis=0)
+    levels = np.unique(v[:, 1])
+    pieces = []
+    for y0, y1 in zip(levels[:-1], levels[1:]):
+        ym = 0.5 * (y0 + y1)
+        span = (np.minimum(a[:, 1], b[:, 1]) < ym) & (np.maximum(a[:, 1], b[:, 1]) > ym)
+        ea, eb = a[span], b[span]
+
+        def x_at(y):
+            return ea[:, 0] + (y - ea[:, 1]) * (eb[:, 0] - ea[:, 0]) / (eb[:, 1] - ea[:, 1])
+
+        order = np.argsort(x_at(ym))
+        xs0, xs1 = x_at(y0)[order], x_at(y1)[order]
+        for k in range(0, len(order) - 1, 2):  # even-odd: material between crossings 2k and 2k+1
+            left = (np.array([xs0[k], y0]), np.array([xs1[k], y1]))
+            right = (np.array([xs0[k + 1], y0]), np.array([xs1[k + 1], y1]))
+            nl = np.array([-(left[1][1] - left[0][1]), left[1][0] - left[0][0]])   # outward: to the left
+            nr = np.array([right[1][1] - right[0][1], -(right[1][0] - right[0][0])])
+            nl, nr = nl / np.linalg.norm(nl), nr / np.linalg.norm(nr)
+            n = np.array([[0.0, -1.0], [0.0, 1.0], nl, nr])
+            d = np.array([-y0, y1, nl @ left[0], nr @ right[0]])
+            pieces.append((n, d))
+    return pieces
+
+
 def leaf_planes(node, matrix=np.eye(3), offset=np.zeros(3)):
-    """World planes of a polyhedral leaf under ``p -> matrix p + offset``, or None."""
+    """Convex pieces ``[(normals, offsets), ...]`` of a polyhedral leaf under ``p -> matrix p + offset``, or None."""
     local = _local_planes(node)
     if local is None:
         return None
-    n, d = local
     inv = np.linalg.inv(matrix)
-    # n . q <= d with q = inv (p - t)  ->  (inv^T n) . p <= d + (inv^T n) . t
-    nw = n @ inv
-    off = d + nw @ offset
-    scale = np.linalg.norm(nw, axis=1)
-    return nw / scale[:, None], off / scale
+    out = []
+    for n, d in (local if isinstance(local, list) else [local]):
+        # n . q <= d with q = inv (p - t)  ->  (inv^T n) . p <= d + (inv^T n) . t
+        nw = n @ inv
+        off = d + nw @ offset
+        scale = np.linalg.norm(nw, axis=1)
+        out.append((nw / scale[:, None], off / scale))
+    return out
