@@ -122,7 +122,8 @@ def run(args) -> int:
         from . import NoResult
 
         raise NoResult(str(exc)) from None
-    source = "solid (extrapolated mesh integrals)" if isinstance(target, Solid) else "mesh (exact integral over its triangles)"
+    source = ("solid volume (extrapolated mesh integrals)" if isinstance(target, Solid)
+              else "mesh volume (exact integral over its triangles)")
     if args.json:
         d = props.to_dict()
         keys = ["volume", "mass", "area", "centroid", "inertia", "inertia_origin", "principal_moments",
@@ -136,6 +137,6 @@ def run(args) -> int:
             print(f"units: m assumed (the model declares none; pass --units or write units = \"mm\" in the model)")
         else:
             print(f"units: {units} ({'given with --units' if args.units else 'declared by the model'})")
-        print(f"volume of the {source}")
+        print(f"what:  {source}")
         print(table(props))
     return 0
