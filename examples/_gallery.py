@@ -45,3 +45,43 @@ def image_axes(ax, image, title=None, fontsize=9):
     ax.set_axis_off()
     if title:
         ax.set_title(title, fontsize=fontsize)
+
+
+def pv_picture(items, size=(360, 300), view=(1.0, -1.3, 0.9), edges=False):
+    """Render ``[(mesh, add_mesh keyword dict), ...]`` off-screen; returns the RGB image."""
+    import numpy as np
+    import pyvista as pv
+
+    plotter = pv.Plotter(off_screen=True, window_size=list(size))
+    plotter.set_background("white")
+    for mesh, kw in items:
+        kw = dict(kw)
+        kw.setdefault("show_edges", edges)
+        plotter.add_mesh(mesh, **kw)
+    plotter.camera_position = "iso"
+    plotter.camera.azimuth = 0
+    bounds = np.array(plotter.bounds).reshape(3, 2)
+    centre = bounds.mean(axis=1)
+    radius = float(np.linalg.norm(bounds[:, 1] - bounds[:, 0])) or 1.0
+    d = np.asarray(view, dtype=float)
+    plotter.camera.position = tuple(centre + 2.2 * radius * d / np.linalg.norm(d))
+    plotter.camera.focal_point = tuple(centre)
+    plotter.camera.up = (0.0, 0.0, 1.0)
+    plotter.reset_camera_clipping_range()
+    plotter.camera.zoom(1.1)
+    image = plotter.screenshot(return_img=True)
+    plotter.close()
+    return image
+
+
+def cubes(lo, size, state=None):
+    """A PolyData of axis-aligned cubes (lower corners `lo`, edges `size`), with a `state` array."""
+    import numpy as np
+    import pyvista as pv
+
+    centres = np.asarray(lo) + 0.5 * np.asarray(size)[:, None]
+    cloud = pv.PolyData(centres)
+    cloud["size"] = np.asarray(size, dtype=float)
+    if state is not None:
+        cloud["state"] = np.asarray(state)
+    return cloud.glyph(geom=pv.Cube(), scale="size", orient=False)

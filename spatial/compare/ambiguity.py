@@ -76,7 +76,8 @@ def _point_segment_distance(p, a, b):
     best = np.full(len(p), np.inf)
     for start in range(0, len(a), 64):  # blocks of segments keep memory at n * 64
         aa, dd = a[start:start + 64], d[start:start + 64]
-        t = np.clip(np.einsum("nmk,mk->nm", p[:, None, :] - aa[None], dd) / np.einsum("mk,mk->m", dd, dd), 0, 1)
+        length2 = np.maximum(np.einsum("mk,mk->m", dd, dd), 1e-300)  # a segment may shrink to a point
+        t = np.clip(np.einsum("nmk,mk->nm", p[:, None, :] - aa[None], dd) / length2, 0, 1)
         q = aa[None] + t[..., None] * dd[None]
         best = np.minimum(best, np.linalg.norm(p[:, None, :] - q, axis=2).min(axis=1))
     return best

@@ -36,6 +36,12 @@ __all__ = ["BRep", "brep", "CREASE_DEGREES", "MIN_FACE_TRIANGLES"]
 
 #: Leaf normals further apart than this split a leaf's triangles into faces.
 CREASE_DEGREES = 30.0
+#: Leaves closer than this (relative to the part's size) at a triangle both carry it.
+COINCIDENT = 1e-7
+#: A face is flat when this share of its triangles has one normal (to 1e-9).
+FLAT_SHARE = 0.8
+#: Alternating projections of wireframe vertices onto the two surfaces of their edge.
+EDGE_PROJECTIONS = 12
 #: Components smaller than this merge into a neighbouring face.
 MIN_FACE_TRIANGLES = 4
 
@@ -124,7 +130,11 @@ def _label_triangles(solid, pts, tri, edges, pairs):
             normal[sel] = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
     t0, t1 = pairs[:, 0], pairs[:, 1]
     cos = np.einsum("ij,ij->i", normal[t0], normal[t1])
-    join = (leaf[t0] == leaf[t1]) & (cos >= np.cos(np.radians(CREASE_DEGREES)))
+    # coplanar faces of two leaves (a union's shared bottom) make one face
+    scale = float(np.max(np.ptp(pts, axis=0))) or 1.0
+    offset = np.abs(np.einsum("ij,ij->i", normal[t0], cen[t1] - cen[t0]))
+    shared = (offset < COINCIDENT * scale) & (cos > 1.0 - 1e-9)
+    join = ((leaf[t0] == leaf[t1]) | shared) & (cos >= np.cos(np.radians(CREASE_DEGREES)))
     _, comp = _components(len(tri), t0[join], t1[join])
     for _ in range(8):  # tiny components take the label of a big neighbour
         sizes = np.bincount(comp)
@@ -142,7 +152,63 @@ def _label_triangles(solid, pts, tri, edges, pairs):
     face_leaf_idx = np.zeros(n_faces, dtype=np.int64)
     face_leaf_idx[face] = leaf
     face_leaf = [leaves[i][0] for i in face_leaf_idx]
-    return n_faces, face, face_leaf
+    carriers = _carriers(n_faces, face, normal, cen, face_leaf_idx, leaves)
+    return n_faces, face, face_leaf, carriers
+
+
+def _carriers(n_faces, face, normal, cen, face_leaf_idx, leaves):
+    """Per face, its surface as ``f(points) -> (values, gradients)``: its plane when flat, else its leaf."""
+    def mean_normal(weights):
+        m = np.zeros((n_faces, 3))
+        np.add.at(m, face, normal * weights[:, None])
+        return m / np.maximum(np.linalg.norm(m, axis=1, keepdims=True), 1e-300)
+
+    mean = mean_normal(np.ones(len(face)))
+    # the chamfer triangles marching cubes leaves along sharp edges must not tilt a flat face
+    mean = mean_normal((np.einsum("ij,ij->i", normal, mean[face]) > 0.999).astype(float))
+    flat_tri = np.einsum("ij,ij->i", normal, mean[face]) > 1.0 - 1e-9
+    share = np.bincount(face, weights=flat_tri, minlength=n_faces) / np.maximum(np.bincount(face, minlength=n_faces), 1)
+    offset = np.zeros(n_faces)
+    np.add.at(offset, face, np.where(flat_tri, np.einsum("ij,ij->i", cen, mean[face]), 0.0))
+    offset /= np.maximum(np.bincount(face, weights=flat_tri, minlength=n_faces), 1)
+    spread = np.where(share >= FLAT_SHARE, 0.0, 1.0)
+    out = []
+    for f in range(n_faces):
+        if spread[f] < 1e-9:
+            n, d = mean[f], offset[f]
+            out.append(lambda p, n=n, d=d: (p @ n - d, np.broadcast_to(n, p.shape)))
+        else:
+            solid = leaves[face_leaf_idx[f]][1]
+            out.append(lambda p, s=solid: (s(p), s.gradient(p)))
+    return out
+
+
+def _project_edges(pts, ce, f0, f1, carriers):
+    """Edge segments (m, 2, 3) with their ends moved onto both faces' surfaces.
+
+    Marching cubes leaves a staircase along a sharp edge; alternating Newton
+    steps ``p -= f grad f / |grad f|^2`` onto the two faces' carriers (a
+    plane, or the CSG leaf) bring each end onto their intersection curve.
+    Ends that would move further than a few cells (corners of three faces)
+    stay where they are.
+    """
+    seg = pts[ce].copy()
+    if not len(ce):
+        return seg
+    span = float(np.max(np.ptp(pts, axis=0))) or 1.0
+    limit = 0.05 * span
+    for a, b in np.unique(np.column_stack([f0, f1]), axis=0):
+        sel = (f0 == a) & (f1 == b)
+        p = seg[sel].reshape(-1, 3)
+        start = p.copy()
+        for _ in range(EDGE_PROJECTIONS):
+            for carrier in (carriers[a], carriers[b]):
+                v, g = carrier(p)
+                p = p - (v / np.maximum(np.einsum("ij,ij->i", g, g), 1e-300))[:, None] * g
+        bad = ~np.isfinite(p).all(axis=1) | (np.linalg.norm(p - start, axis=1) > limit)
+        p[bad] = start[bad]
+        seg[sel] = p.reshape(-1, 2, 3)
+    return seg
 
 
 def brep(solid, mesh) -> BRep:
@@ -168,7 +234,7 @@ def brep(solid, mesh) -> BRep:
     if len(tri) == 0:
         raise ValueError("mesh: the mesh has no triangles")
     edges, pairs = _edge_table(tri)
-    F, face, face_leaf = _label_triangles(solid, pts, tri, edges, pairs)
+    F, face, face_leaf, carriers = _label_triangles(solid, pts, tri, edges, pairs)
     nv = len(pts)
     # shells and genus from the mesh itself
     n_shell, shell = _components(nv, edges[:, 0], edges[:, 1])
@@ -223,7 +289,7 @@ def brep(solid, mesh) -> BRep:
         faces_with_loops = int((per_face > 0).sum())
     L = loops - faces_with_loops
     V += F - faces_with_loops  # a face with no edge carries one vertex
-    seg = pts[ce]
+    seg = _project_edges(pts, ce, cf0, cf1, carriers)
     nbytes = int(pts.nbytes + tri.nbytes + face.nbytes + ce.nbytes)
     return BRep(V=V, E=E, F=F, L=L, B=B, G=G, face_of_triangle=face, face_leaf=face_leaf, edge_segments=seg,
                 nbytes=nbytes)
