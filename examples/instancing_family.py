@@ -19,7 +19,7 @@ from spatial import mass_properties, mesh
 SHOW = {"i_beam": {"length": 300.0}, "angle_section": {"length": 120.0},
         "tee_section": {"length": 120.0}, "channel_section": {"length": 200.0}}
 #: Turns (degrees about z) that face each part's feature to the camera.
-TURN = {"pipe_bend": 180.0, "keyed_shaft": 180.0}
+TURN = {"pipe_bend": 180.0, "keyed_shaft": 90.0}
 
 
 def main(out_dir=None, small=False):
@@ -37,7 +37,7 @@ def main(out_dir=None, small=False):
                    f"ISO 4014 {s} x 40\nk = {p['head_height']:g}, s = {p['across_flats']:g}\n"
                    f"V = {vol:.0f} mm^3 (exact {exact:.0f})")
     fig.suptitle("One family, four instances: iso4014_bolt(size, length)", fontsize=11)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.9))
     path = save(fig, "instancing_family", out_dir)
     names = LIBRARY_FAMILIES if not small else LIBRARY_FAMILIES[:4]
     cols = 5
