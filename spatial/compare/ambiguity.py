@@ -128,7 +128,7 @@ def picture(path=None, *, resolution=64, window=(420, 360)):
         m = mesh(solid, resolution=resolution, progress=False)
         rep = brep(solid, m)
         facts[name] = (mass_properties(m).volume, *wire_matches(rep.edge_segments, ref, 2 * h))
-        half = m.clip_closed_surface(normal=(0, 0, 1), origin=(0, 0, 0))
+        half = m.clip_closed_surface(normal=(0, 0, -1), origin=(0, 0, 0))  # keeps z <= 0, capped
         image = render(half, style="shaded", view="iso", window_size=window)
         axi = fig.add_subplot(1, 4, i + 2)
         axi.imshow(image)

@@ -104,8 +104,8 @@ def test_three_solids_share_one_wireframe_and_differ_in_volume():
         m = mesh(solid, resolution=40)
         rep = brep(solid, m)
         out, cover = wire_matches(rep.edge_segments, ref, h)
-        assert out < 2.5 * h, name       # every edge found lies on the shared wireframe
-        assert cover < 2.5 * h, name     # and the whole wireframe is found
+        assert out < 1.5 * h, name       # every edge found lies on the shared wireframe
+        assert cover < 1.5 * h, name     # and the whole wireframe is found
         assert rep.holds and rep.G == 1
         volumes.append(float(m.volume))
     assert min(abs(a - b) for i, a in enumerate(volumes) for b in volumes[i + 1:]) > 0.5
