@@ -370,7 +370,7 @@ def wireframe(solid, pts, ctx):
 
 
 def patches(solid, pts, ctx):
-    from ..convert import fit_star_surface, surface_to_mesh
+    from ..convert import fit_star_surface
     try:
         fit, build = _timed(fit_star_surface, solid, n_control=(16, 8))
     except ValueError as exc:
@@ -380,17 +380,23 @@ def patches(solid, pts, ctx):
         return Representation("B-spline patches", applies=False,
                               note=f"not star-shaped: the radial fit deviates {fit.max_deviation:.3g}")
     surf = fit.surface
-    m = surface_to_mesh(surf, 96, 48)
-    try:
-        vol = mass_properties(m).volume
-    except ValueError:
-        vol = None
-    nbytes = int(np.asarray(surf.control_points).nbytes + sum(np.asarray(k).nbytes for k in surf.knots))
+    vol = _star_volume(fit.radial)
+    nbytes = int(np.asarray(surf.control_points).nbytes + np.asarray(surf.knots_u).nbytes
+                 + np.asarray(surf.knots_v).nbytes)
     _, q = _timed(fit.solid.contains, pts)
     return Representation("B-spline patches", nbytes, nbytes, build, vol, None, q,
                           ["inside/outside", "mass properties", "rendering", "exact boundary"],
                           note=f"closed bicubic B-spline, {np.asarray(surf.control_points).shape[0]}x"
                                f"{np.asarray(surf.control_points).shape[1]} controls, deviation {fit.max_deviation:.2g}")
+
+
+def _star_volume(radial, n_theta=256, n_phi=96):
+    """Volume inside ``r(theta, phi)``: the integral of r^3 / 3 sin(phi) (periodic rule in theta, Gauss in phi)."""
+    x, w = np.polynomial.legendre.leggauss(n_phi)
+    phi = 0.5 * np.pi * (x + 1.0)
+    theta = 2 * np.pi * np.arange(n_theta) / n_theta
+    r = np.asarray(radial.grid(theta / (2 * np.pi), 1.0 - phi / np.pi))[..., 0]
+    return float((2 * np.pi / n_theta) * (0.5 * np.pi) * np.sum(r ** 3 / 3.0 * (np.sin(phi) * w)[None, :]))
 
 
 def level_set(solid, pts, ctx):

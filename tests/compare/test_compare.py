@@ -125,3 +125,14 @@ def test_compare_refuses_bad_input(kwargs, message):
         compare(BENCH, **kwargs)
     with pytest.raises(TypeError, match="solid: expected an implicit.Solid"):
         compare("part.py")
+
+
+def test_fitted_patches_of_a_star_shaped_part_hold_its_volume():
+    table = compare(sphere(1.0), resolution=16, reference=4 * math.pi / 3, n_queries=1000, claims=False,
+                    progress=False)
+    patches = table.row("B-spline patches")
+    assert patches.applies and patches.volume_error < 1e-6
+    rounded = compare(sphere(1.0) & box(1.6), resolution=16, n_queries=1000, claims=False, progress=False)
+    assert rounded.row("B-spline patches").volume_error < 1e-2
+    assert not compare(BENCH, resolution=16, n_queries=1000, claims=False, progress=False).row(
+        "B-spline patches").applies  # the holes pass through its centre: not star-shaped
