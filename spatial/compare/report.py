@@ -71,20 +71,29 @@ def _section_picture(sec, path, title):
     plt.close(fig)
 
 
-def _drawing_sheet(solid, mesh, path):
-    """The drafting room's drawing sheet when it has one; else the multi-view picture (said so)."""
+def _drawing_sheet(solid, mesh, path, name, resolution):
+    """The drafting room's drawing sheet (PNG, with an SVG beside it); the shaded views when it cannot draw.
+
+    Returns ``(what was drawn, extra files)``; a fallback says why in the report.
+    """
     from .. import drafting
-    for name in ("draw", "drawing_sheet", "draw_sheet"):
-        fn = getattr(drafting, name, None)
-        if callable(fn):
-            try:
-                fn(solid, path)
-                return f"drawing sheet from spatial.drafting.{name}"
-            except TypeError:
-                continue
+    part_drawing = getattr(drafting, "part_drawing", None)
+    write_drawing = getattr(drafting, "write_drawing", None)
+    if part_drawing is not None and write_drawing is not None:
+        try:
+            sheet = part_drawing(solid, name=name, resolution=max(int(resolution), 48))
+            write_drawing(sheet, path)
+            svg = os.path.splitext(path)[0] + ".svg"
+            write_drawing(sheet, svg)
+            return (f"drawing sheet from spatial.drafting (first-angle projection, scale {sheet.meta.get('scale', '?')}; "
+                    f"also as {os.path.basename(svg)})"), {"sheet_svg": svg}
+        except (ValueError, ImportError, OSError) as exc:
+            reason = f"spatial.drafting could not draw it ({str(exc).splitlines()[0]})"
+    else:
+        reason = "spatial.drafting has no part_drawing here"
     drafting.render_views(mesh, path, style="shaded", window_size=(1000, 800))
-    return ("shaded multi-view picture (front, top, right, iso): spatial.drafting has no drawing-sheet "
-            "function here, so this picture stands in for the dimensioned sheet")
+    return (f"shaded multi-view picture (front, top, right, iso): {reason}, so this picture stands in for "
+            "the dimensioned sheet"), {}
 
 
 def _img(path):
@@ -199,8 +208,9 @@ def report(solid, out_dir, *, name="part", resolution=96, compare_resolution=48,
         from .. import drafting
         drafting.render(m, p("shaded.png"), style="shaded", view="iso", window_size=(900, 700))
         paths["shaded"] = p("shaded.png")
-        facts["sheet"] = _drawing_sheet(solid, m, p("sheet.png"))
+        facts["sheet"], extra = _drawing_sheet(solid, m, p("sheet.png"), name, resolution)
         paths["sheet"] = p("sheet.png")
+        paths.update(extra)
         bar.update(1)
         bar.set_description("comparison")
         table = compare(solid, resolution=int(compare_resolution), reference=reference, progress=False)
@@ -214,7 +224,7 @@ def report(solid, out_dir, *, name="part", resolution=96, compare_resolution=48,
         md = _markdown(name, facts, props, valid, rep, sec, table, units, units_assumed)
         paths["markdown"] = p("report.md")
         _write_text(paths["markdown"], md)
-        pictures = {os.path.basename(v): _img(v) for k, v in paths.items() if v.endswith(".png")}
+        pictures = {os.path.basename(v): _img(v) for v in paths.values() if v.endswith(".png")}
         paths["html"] = p("report.html")
         _write_text(paths["html"], _md_to_html(md, pictures))
         facts["seconds"] = time.perf_counter() - started

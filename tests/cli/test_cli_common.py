@@ -121,7 +121,8 @@ def test_report_writes_every_page(capsys, tmp_path, small_model):
     assert facts["units"] == "mm" and facts["brep"]["euler_poincare_holds"]
     assert facts["mass_properties"]["volume"] == pytest.approx(40 * 20 * 5 - 3.14159265 * 16 * 5, rel=1e-2)
     md = open(paths["markdown"], encoding="utf-8").read()
-    assert "![shaded view](shaded.png)" in md and "stands in" in md or "spatial.drafting." in md
+    assert "![shaded view](shaded.png)" in md and "drawing sheet from spatial.drafting" in md
+    assert os.path.getsize(paths["sheet_svg"]) > 1000
 
 
 def test_report_refuses_a_file_as_folder(capsys, tmp_path, small_model):
