@@ -10,7 +10,7 @@ from implicit import box, cylinder, sphere
 from implicit.library import channel_section
 from spatial.compare import brep, compare, half_space_form
 from spatial.compare.ambiguity import BLOCK, ambiguous_solids, wire_matches, wireframe_segments
-from spatial.meshing import mesh
+from spatial.meshing import feature_edges, mesh
 
 BENCH = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
     - cylinder(0.5, 4, axis=(0, 0, 1))
@@ -109,6 +109,15 @@ def test_three_solids_share_one_wireframe_and_differ_in_volume():
         assert rep.holds and rep.G == 1
         volumes.append(float(m.volume))
     assert min(abs(a - b) for i, a in enumerate(volumes) for b in volumes[i + 1:]) > 0.5
+    # the meshing room's sharp feature curves find the same wireframe in all three
+    counts = set()
+    for name, solid in solids.items():
+        curves = feature_edges(mesh(solid, resolution=40, features=True))
+        seg = np.concatenate([np.stack([c[:-1], c[1:]], axis=1) for c in curves.polylines])
+        out, cover = wire_matches(seg, ref, h)
+        assert out < 1.5 * h and cover < 1.5 * h, name
+        counts.add(len(curves.polylines))
+    assert len(counts) == 1
     # a wireframe from another solid (no hole) does not match
     block = box(BLOCK)
     out, cover = wire_matches(brep(block, mesh(block, resolution=40)).edge_segments, ref, h)
