@@ -42,6 +42,50 @@ from .convert import (  # noqa: F401
     fit_section_curve, loft_sections, fit_star_surface, surface_to_mesh, curve_to_polydata, isoparametric_polydata,
 )
 from .drafting import part_drawing, assembly_drawing, write_drawing  # noqa: F401
+
+
+def mesh(solid, *, client=None, workers=None, **options):
+    """Closed boundary mesh of a solid: `spatial.meshing.mesh`, or on a Dask cluster.
+
+    With ``client=`` (a `distributed.Client`, a scheduler address or
+    ``"local"``) or ``workers=N`` (a local cluster of N processes) the work
+    runs brick by brick on the cluster (`spatial.distributed.mesh`, which
+    also takes ``brick=`` and ``parts=``); otherwise in this process.  The
+    two give the same triangles.  See `spatial.meshing.mesh` for `options`.
+
+    Examples
+    --------
+    >>> from implicit import sphere
+    >>> mesh(sphere(1.0), resolution=16).is_manifold
+    True
+    """
+    if client is None and workers is None:
+        return _mesh_here(solid, **options)
+    from .distributed import mesh as _mesh_on_cluster
+
+    return _mesh_on_cluster(solid, client=client, workers=workers, **options)
+
+
+def mass_properties(obj, *, client=None, workers=None, **options):
+    """Mass properties with error bounds: `spatial.analysis.mass_properties`, or on a Dask cluster.
+
+    With ``client=`` or ``workers=`` a Solid's meshes are integrated brick
+    by brick on the cluster (`spatial.distributed.mass_properties`); the
+    result agrees with the single-process one to rounding.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> round(mass_properties(pv.Box((0, 2, 0, 1, 0, 1)).triangulate()).volume, 12)
+    2.0
+    """
+    if client is None and workers is None:
+        return _mass_here(obj, **options)
+    from .distributed import mass_properties as _mass_on_cluster
+
+    return _mass_on_cluster(obj, client=client, workers=workers, **options)
+
+
 # (the function `compare` stays in its room, whose name it shares: spatial.compare.compare)
-from .compare import brep, half_space_form, Comparison, BRep  # noqa: F401
-from .compare.report import report  # noqa: F401
+from .compare import brep, half_space_form, Comparison, BRep  # noqa: E402,F401
+from .compare.report import report  # noqa: E402,F401
