@@ -1,10 +1,12 @@
-"""The main job of `make demo`: the example part through the whole pipeline.
+"""The main job of `make demo`: the example part through the whole pipeline, then its full report.
 
 The benchmark part (a sphere trimmed by a cube, drilled along x, y and z) is
 described as a CSG tree, meshed by marching cubes over its boundary cells,
 measured (mass properties with error bounds), checked as a valid solid,
 sectioned, meshed into tetrahedra for FEA and drawn.  Everything is done
-through the `implicad` command, as a user would; files land in `out/`.
+through the `implicad` command, as a user would; files land in `out/`.  Last,
+`implicad report` writes the whole report (`out/report/report.html`, one
+self-contained page, with `report.md` and `report.json` beside it).
 """
 
 from __future__ import annotations
@@ -40,10 +42,14 @@ def main(out_dir="out", resolution=128):
         step("interference", ["interfere", rel(ASSEMBLY)]),
         step("FEA mesh", ["fea", rel(PART), "-o", os.path.join(out_dir, "part.msh"), "--size", "0.08"]),
         step("picture", ["render", rel(PART), "-o", os.path.join(out_dir, "part.png")]),
+        step("report", ["report", rel(PART), "-o", os.path.join(out_dir, "report"), "--resolution", "96",
+                        "--reference", "0.988789504774"]),
     ]
     # `interfere` exits 1 when parts interfere, which the example assembly does on purpose.
     failed = [s for i, s in enumerate(statuses) if s not in (0, 1) or (s == 1 and i != 5)]
     print(f"\nfiles in {out_dir}/: {', '.join(sorted(os.listdir(out_dir)))}")
+    print(f"the report: {os.path.abspath(os.path.join(out_dir, 'report', 'report.html'))} "
+          f"(and report.md, report.json beside it)")
     return 1 if failed else 0
 
 

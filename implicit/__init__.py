@@ -27,6 +27,7 @@ from .parametric_solids import (
     curve_profile, revolve_curve, extrude_curve, sweep, thicken, surface_solid, volume_solid,
 )
 from .star_solids import star_solid, fit_radial_function
+from . import library  # noqa: F401  (registers the part library's families with `families`)
 
 __all__ = [
     "Solid", "INFINITE_BOUNDS",

@@ -30,7 +30,10 @@ from pathlib import Path
 from .serialize import MAX_CHARS, from_dict, parse_json
 from .solid import Solid
 
-__all__ = ["load_model", "load_assembly", "load_any", "load_materials"]
+__all__ = ["load_model", "load_model_units", "load_assembly", "load_any", "load_materials", "UNIT_NAMES"]
+
+#: Length units a model may declare (``units = "mm"`` in a .py model, a ``units`` field in JSON).
+UNIT_NAMES = ("m", "cm", "mm", "in", "ft")
 
 
 def _check_path(path) -> tuple[Path, str]:
@@ -136,13 +139,40 @@ def load_model(path) -> Solid:
     >>> from implicit.models import load_model
     >>> part = load_model("examples/benchmark_part.py")   # doctest: +SKIP
     """
+    return load_model_units(path)[0]
+
+
+def _declared_units(value, name: str):
+    if value is None:
+        return None
+    if not isinstance(value, str) or value not in UNIT_NAMES:
+        raise ValueError(f"{name}: units: expected one of {', '.join(UNIT_NAMES)}, got {value!r}")
+    return value
+
+
+def load_model_units(path) -> tuple:
+    """The solid of a model file and the length units it declares (None when it declares none).
+
+    A ``.py`` model declares them with a module-level ``units = "mm"``; a
+    ``.json`` tree with a top-level ``"units": "mm"`` field beside ``"kind"``.
+
+    Examples
+    --------
+    >>> from implicit.models import load_model_units
+    >>> solid, units = load_model_units("examples/bracket.py")   # doctest: +SKIP
+    """
     p, name = _check_path(path)
     if p.suffix.lower() == ".json":
         data = _read_json(p, name)
         if isinstance(data, dict) and "parts" in data and "kind" not in data:
             raise ValueError(f"{name}: this is an assembly file (it has 'parts'); load it with load_assembly")
-        return _tree(data, name)
-    return _model_from(_run_python(p, name), name)
+        units = None
+        if isinstance(data, dict) and "units" in data:
+            data = dict(data)
+            units = _declared_units(data.pop("units"), name)
+        return _tree(data, name), units
+    ns = _run_python(p, name)
+    return _model_from(ns, name), _declared_units(ns.get("units"), name)
 
 
 def _model_from(ns: dict, name: str) -> Solid:

@@ -14,6 +14,7 @@ imports only from itself and the rooms below it:
 ``manufacturing`` layer slices, 2.5D milling tool paths, G-code, verification
 ``inspection``  scans against designs, tolerance stack-up
 ``distributed`` meshing and mass properties as Dask tasks on a cluster
+``compare``     representations compared on one part, the full report
 ``cli``         the ``implicad`` command (top)
 ==============  ==========================================================
 
@@ -83,3 +84,8 @@ def mass_properties(obj, *, client=None, workers=None, **options):
     from .distributed import mass_properties as _mass_on_cluster
 
     return _mass_on_cluster(obj, client=client, workers=workers, **options)
+
+
+# (the function `compare` stays in its room, whose name it shares: spatial.compare.compare)
+from .compare import brep, half_space_form, Comparison, BRep  # noqa: E402,F401
+from .compare.report import report  # noqa: E402,F401

@@ -9,10 +9,15 @@ with ``--debug``).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import io
+import json
 import os
 import sys
 from importlib import metadata
+
+from .common import add_common_flags, install_warning_handler
 
 __all__ = ["main", "build_parser", "CommandError", "NoResult"]
 
@@ -33,6 +38,8 @@ COMMAND_MODULES = (
     "inspect",
     "stackup",
     "bom",
+    "compare",
+    "report",
 )
 
 
@@ -82,7 +89,8 @@ def build_parser() -> argparse.ArgumentParser:
                            epilog=_EPILOG)
         p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show a traceback on errors")
         module.add_arguments(p)
-        p.set_defaults(_run=module.run)
+        p.set_defaults(_run=module.run, _native_json="--json" in p._option_string_actions, _name=module.NAME)
+        add_common_flags(p)
     return parser
 
 
@@ -116,15 +124,29 @@ _EPILOG = ("Model files: a .py model is a Python program and runs as such, with 
            "exchange.")
 
 
+def _run(args):
+    """Run the command; under ``--json`` a command without its own JSON form is wrapped in one object."""
+    if not getattr(args, "json", False) or args._native_json:
+        return args._run(args)
+    args.progress = False
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        status = args._run(args)
+    print(json.dumps({"command": args._name, "status": int(status or 0),
+                      "output": buffer.getvalue().splitlines()}, indent=1))
+    return status
+
+
 def main(argv=None) -> int:
     """Run `implicad` with `argv` (default: ``sys.argv[1:]``); return the exit status."""
+    install_warning_handler()
     parser = build_parser()
     args = parser.parse_args(argv)
     debug = getattr(args, "debug", False)
     if not debug:
         quiet_vtk()
     try:
-        status = args._run(args)
+        status = _run(args)
     except KeyboardInterrupt:
         print("implicad: interrupted", file=sys.stderr)
         return 130

@@ -33,11 +33,24 @@ def run(args) -> int:
     from ..analysis.validity import check
     from .mass import load_target
 
+    from implicit import Solid
+
+    from ..meshing import mesh as _mesh
+    from .common import progress_of
+
     target = load_target(args.model)
-    report = check(target, resolution=args.resolution, assembly=args.assembly)
+    progress = progress_of(args)
+    report = check(target, resolution=args.resolution, assembly=args.assembly,
+                   mesher=lambda solid, h: _mesh(solid, voxel_size=h, progress=progress))
+    of = (f"the boundary mesh of the solid at N={args.resolution}" if isinstance(target, Solid)
+          else "the mesh file's triangles")
     if args.json:
-        print(json.dumps(report.to_dict(), indent=2))
+        out = report.to_dict()
+        out["volume_of"] = "mesh"
+        print(json.dumps(out, indent=2))
     else:
         print(f"model:     {args.model}")
-        print(report.summary())
+        print("\n".join(line.replace("volume:    ", "mesh volume: ", 1) + (f"  ({of}; `implicad mass` gives the solid's)"
+                                                                           if line.startswith("volume:") else "")
+                        for line in report.summary().splitlines()))
     return 0 if report.valid else 1

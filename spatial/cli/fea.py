@@ -99,7 +99,9 @@ def run(args) -> int:
 
     from ..cells.budget import check_tet_memory
 
-    solid = load_model(args.model)
+    from .common import load_solid
+
+    solid = load_solid(args.model)
     if solid.is_bounded and not solid.is_empty_bounds:
         check_tet_memory(solid.bounds, args.size)       # refuse at once what would not fit
     known = FacetField(solid).names

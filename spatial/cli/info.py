@@ -25,7 +25,7 @@ DESCRIPTION = (
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("model", metavar="MODEL", help="model file (.py or .json)")
+    parser.add_argument("model", metavar="MODEL", help="model file (.py or .json) or closed mesh file (.stl, .ply, .obj, .vtp)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     parser.add_argument("--no-tree", action="store_true", help="leave the tree out of the text output")
 
@@ -122,7 +122,9 @@ def _text(name: str, solid, show_tree: bool) -> list[str]:
 def run(args) -> int:
     from implicit.models import load_any
 
-    loaded = load_any(args.model)
+    from .common import is_mesh_file, load_solid
+
+    loaded = load_solid(args.model) if is_mesh_file(args.model) else load_any(args.model)
     if args.json:
         if isinstance(loaded, dict):
             out = {"model": args.model, "parts": {k: summary(v) for k, v in loaded.items()}}

@@ -29,8 +29,13 @@ def run(args) -> int:
 
     from ..analysis.interference import check_assembly
 
+    from ..meshing import mesh
+    from .common import progress_of
+
     parts = load_assembly(args.assembly)
-    report = check_assembly(parts, resolution=args.resolution)
+    progress = progress_of(args)
+    report = check_assembly(parts, resolution=args.resolution,
+                            mesher=lambda solid, h: mesh(solid, voxel_size=h, progress=progress))
     if args.json:
         print(json.dumps(report.to_dict(), indent=2))
     else:

@@ -30,7 +30,9 @@ def add_arguments(parser) -> None:
 
     parser.add_argument("model", metavar="MODEL", help="model file (.py or .json) or mesh file (.stl, .ply, ...)")
     parser.add_argument("--density", type=float, default=1.0, help="density in kg/m^3 (default 1)")
-    parser.add_argument("--units", default="m", choices=sorted(UNITS), help="length unit of the model (default m)")
+    parser.add_argument("--units", default=None, choices=sorted(UNITS),
+                        help="length unit of the model (default: the units the model declares; m when it declares none, "
+                             "said on the first line)")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--voxel-size", type=float, metavar="H", help="finest cell size")
     group.add_argument("--resolution", type=int, metavar="N", help="finest cells across the model")
@@ -41,13 +43,20 @@ def add_arguments(parser) -> None:
 
 def load_target(path):
     """A mesh for mesh files, else the model's solid."""
-    if os.path.splitext(str(path))[1].lower() in MESH_SUFFIXES:
-        from ..files.meshes import load_mesh
+    from .common import load_target as _load
 
-        return load_mesh(path)
-    from implicit.models import load_model
+    return _load(path)
 
-    return load_model(path)
+
+def load_target_units(path):
+    """``(mesh or solid, declared units or None)``."""
+    from .common import is_mesh_file, load_target as _load
+
+    if is_mesh_file(path):
+        return _load(path), None
+    from implicit.models import load_model_units
+
+    return load_model_units(path)
 
 
 def _fmt(v) -> str:
@@ -90,7 +99,8 @@ def run(args) -> int:
 
     from ..analysis.mass import mass_properties
 
-    target = load_target(args.model)
+    target, declared = load_target_units(args.model)
+    units, assumed = (args.units, False) if args.units else ((declared, False) if declared else ("m", True))
     kw = {}
     if isinstance(target, Solid):
         kw = {"voxel_size": args.voxel_size, "resolution": args.resolution, "tolerance": args.tolerance}
@@ -98,19 +108,35 @@ def run(args) -> int:
     elif any(v is not None for v in (args.voxel_size, args.resolution, args.tolerance)):
         raise ValueError(f"{args.model}: a mesh file is integrated exactly; --voxel-size, --resolution and "
                          "--tolerance apply to model files only")
+    if isinstance(target, Solid):
+        from ..meshing import mesh as _mesh
+        from .common import progress_of
+
+        progress = progress_of(args)
+        kw["mesher"] = lambda solid, h: _mesh(solid, voxel_size=h, progress=progress)
     from ..analysis.mass import ToleranceError
 
     try:
-        props = mass_properties(target, density=args.density, units=args.units, **kw)
+        props = mass_properties(target, density=args.density, units=units, **kw)
     except ToleranceError as exc:
         from . import NoResult
 
         raise NoResult(str(exc)) from None
+    source = ("solid volume (extrapolated mesh integrals)" if isinstance(target, Solid)
+              else "mesh volume (exact integral over its triangles)")
     if args.json:
         d = props.to_dict()
         keys = ["volume", "mass", "area", "centroid", "inertia", "inertia_origin", "principal_moments",
                 "principal_axes", "error", "voxel_size", "units", "density", "mass_unit", "inertia_unit", "method"]
-        print(json.dumps({k: d[k] for k in keys}, indent=2))
+        out = {k: d[k] for k in keys}
+        out["units_assumed"] = assumed
+        out["volume_of"] = "solid" if isinstance(target, Solid) else "mesh"
+        print(json.dumps(out, indent=2))
     else:
+        if assumed:
+            print(f"units: m assumed (the model declares none; pass --units or write units = \"mm\" in the model)")
+        else:
+            print(f"units: {units} ({'given with --units' if args.units else 'declared by the model'})")
+        print(f"what:  {source}")
         print(table(props))
     return 0

@@ -52,9 +52,9 @@ def add_arguments(parser) -> None:
 
 
 def _load(path):
-    from implicit.models import load_model
+    from .common import load_solid
 
-    return load_model(path)
+    return load_solid(path)
 
 
 def _cluster_options(args):

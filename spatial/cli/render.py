@@ -81,7 +81,11 @@ def run(args) -> int:
 
 
 def _load_parts(path, load_model, load_assembly):
-    """Named solids of an assembly file, or the single solid of a part file."""
+    """Named solids of an assembly file, or the single solid of a part (or mesh) file."""
+    from .common import is_mesh_file, load_solid
+
+    if is_mesh_file(path):
+        return {"part": load_solid(path)}
     try:
         return dict(load_assembly(path))
     except (ValueError, TypeError):

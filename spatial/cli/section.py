@@ -132,7 +132,9 @@ def run(args) -> int:
         ext = os.path.splitext(args.output)[1].lower()
         if ext not in (".png", ".pdf", ".svg", ".json"):
             raise ValueError(f"{args.output}: expected a .png, .pdf, .svg or .json file name")
-    solid = load_model(args.model)
+    from .common import load_solid
+
+    solid = load_solid(args.model)
     sec = section(solid, plane, resolution=args.resolution)
     label = f"point {tuple(args.point)} normal {tuple(args.normal)}" if args.point else (args.plane or "z=0")
     if sec.is_empty:
