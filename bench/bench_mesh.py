@@ -21,6 +21,18 @@ cells across, the distance from points of the exact CSG edges and corners
 bracket, a stepped shaft with a keyway and a box with pockets, in voxels:
 
     .venv/bin/python bench/bench_mesh.py --features --sizes 256 512 --edges 128
+
+Whole process (`bench/whole_process.py`): with ``--sdf-python PATH`` each size
+is also run as a user meets it -- a fresh interpreter that imports and meshes
+the part once, nothing warmed -- interleaved run by run with fogleman/sdf
+meshing the same part at the same step h = 1.6/N from that Python; the table
+gives wall, CPU and peak MB of both whole processes, their ratios, and both
+in-process meshing times.  Without a usable sdf the comparison is skipped with
+a message.  ``--command N`` times ``implicad mesh examples/benchmark_part.py
+-o part.stl --resolution N`` as a whole command:
+
+    .venv/bin/python bench/bench_mesh.py --sizes 256 512 --repeat 5 --sdf-python /tmp/sdfvenv/bin/python
+    .venv/bin/python bench/bench_mesh.py --sizes --command 256 --repeat 5
 """
 
 from __future__ import annotations
@@ -64,20 +76,34 @@ def run_one(n, refine, features=False):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[128, 256, 512, 1024])
+    parser.add_argument("--sizes", type=int, nargs="*", default=[128, 256, 512, 1024])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--no-refine", action="store_true")
     parser.add_argument("--features", action="store_true", help="compare with mesh(..., features=True)")
     parser.add_argument("--edges", type=int, default=0, help="edge and corner distances at this N")
+    parser.add_argument("--sdf-python", default=None, metavar="PATH",
+                        help="a Python that imports fogleman/sdf: whole-process comparison with it")
+    parser.add_argument("--command", type=int, default=0, metavar="N",
+                        help="time `implicad mesh examples/benchmark_part.py --resolution N` as a whole command")
     args = parser.parse_args(argv)
     refine = not args.no_refine
     if args.features:
         return compare_features(args.sizes, args.repeat, refine, args.edges)
-    print(f"benchmark part, spatial.mesh(refine={refine}); median of {args.repeat} runs, one process each")
+    if args.sizes:
+        in_process(args.sizes, args.repeat, refine)
+        whole_process_table(args.sizes, args.repeat, args.sdf_python)
+    if args.command:
+        command_table(args.command, args.repeat)
+    return 0
+
+
+def in_process(sizes, repeat, refine):
+    print(f"in process: benchmark part, spatial.mesh(refine={refine}) after a warm-up evaluation; "
+          f"median of {repeat} runs, one process each")
     print(f"{'N':>6} {'wall s':>8} {'cpu s':>7} {'evaluations':>12} {'peak MB':>8} {'triangles':>10} {'volume':>11} manifold")
     prev = None
-    for n in args.sizes:
-        runs = [run_one(n, refine) for _ in range(args.repeat)]
+    for n in sizes:
+        runs = [run_one(n, refine) for _ in range(repeat)]
         wall = statistics.median(r["wall"] for r in runs)
         cpu = statistics.median(r["cpu"] for r in runs)
         peak = max(r["peak"] for r in runs)
@@ -86,8 +112,56 @@ def main(argv=None):
         prev = r["evaluations"]
         print(f"{n:>6} {wall:>8.2f} {cpu:>7.2f} {r['evaluations']:>12,d} {peak:>8.0f} {r['triangles']:>10,d} "
               f"{r['volume']:>11.8f} {'yes' if r['manifold'] else 'NO'}{growth}", flush=True)
-    print("exact volume 0.988789504774")
-    return 0
+    print(f"exact volume {EXACT_VOLUME}")
+
+
+def whole_process_table(sizes, repeat, sdf_python):
+    """Whole processes of implicad and fogleman/sdf, interleaved run by run; medians and their ratios."""
+    sys.path.insert(0, os.path.join(ROOT, "bench"))
+    import whole_process as wp
+
+    why = wp.sdf_usable(sdf_python)
+    if why:
+        print(f"\nwhole process vs fogleman/sdf: skipped ({why}; give --sdf-python PATH)")
+    title = "implicad" if why else "implicad vs fogleman/sdf, interleaved"
+    print(f"\nwhole process (fresh interpreter: imports + one mesh, h = 1.6/N), {title}; median of {repeat}")
+    head = f"{'N':>6} {'wall s':>7} {'cpu s':>6} {'peak MB':>7} {'mesh s':>6}"
+    if not why:
+        head += f" | {'sdf wall':>8} {'cpu':>6} {'peak':>6} {'mesh':>6} | {'wall x':>6} {'cpu x':>6} {'peak x':>6}" \
+                f" {'mesh x':>6} | {'sdf tri':>9} {'sdf vol':>8}"
+    print(head)
+    med = statistics.median
+    for n in sizes:
+        ours, peer = [], []
+        for _ in range(repeat):
+            ours.append(wp.implicad_run(sys.executable, n))
+            if not why:
+                peer.append(wp.sdf_run(sdf_python, n))
+        row = [med(r[k] for r in ours) for k in ("wall", "cpu", "peak", "mesh")]
+        line = f"{n:>6} {row[0]:>7.2f} {row[1]:>6.2f} {row[2]:>7.0f} {row[3]:>6.2f}"
+        if not why:
+            other = [med(r[k] for r in peer) for k in ("wall", "cpu", "peak", "mesh")]
+            ratio = [a / b for a, b in zip(row, other)]
+            line += f" | {other[0]:>8.2f} {other[1]:>6.2f} {other[2]:>6.0f} {other[3]:>6.2f} | " \
+                    + " ".join(f"{r:>6.3f}" for r in ratio) \
+                    + f" | {peer[0]['triangles']:>9,d} {peer[0]['volume']:>8.5f}"
+        print(line, flush=True)
+
+
+def command_table(n, repeat):
+    """`implicad mesh examples/benchmark_part.py -o part.stl --resolution n`, whole command, median."""
+    import tempfile
+
+    sys.path.insert(0, os.path.join(ROOT, "bench"))
+    import whole_process as wp
+
+    implicad = os.path.join(os.path.dirname(sys.executable), "implicad")
+    with tempfile.TemporaryDirectory() as tmp:
+        runs = [wp.command_run(implicad, n, os.path.join(tmp, "part.stl")) for _ in range(repeat)]
+    med = statistics.median
+    print(f"\n`implicad mesh examples/benchmark_part.py -o part.stl --resolution {n}`, whole command, "
+          f"median of {repeat}: wall {med(r['wall'] for r in runs):.2f} s, cpu {med(r['cpu'] for r in runs):.2f} s, "
+          f"peak {med(r['peak'] for r in runs):.0f} MB (first run {runs[0]['wall']:.2f} s wall)")
 
 
 EXACT_VOLUME = 0.988789504774
