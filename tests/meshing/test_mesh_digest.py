@@ -1,0 +1,99 @@
+"""The boundary mesh pinned triangle by triangle: speed work on the mesher must not change it.
+
+Each digest is the SHA-256 of the mesh's triangles, every triangle written as
+its three vertex positions (rounded to 1e-7) starting from its smallest
+vertex with the winding kept, the triangles sorted: the same mesh up to the
+numbering of its vertices gives the same digest, and any moved, added,
+dropped or flipped triangle a different one.
+"""
+
+from __future__ import annotations
+
+import hashlib
+
+import numpy as np
+import pytest
+
+from implicit import box, capsule, cylinder, smooth_union, sphere, translate
+from spatial import mesh
+from spatial.meshing.arrays import faces_array
+
+
+def triangle_digest(m):
+    points, tri = faces_array(m)
+    corners = np.round(points[tri], 7)  # (f, 3, 3)
+    # rotate each triangle so its lexicographically smallest vertex comes first (winding kept)
+    rank = np.zeros((corners.shape[0], 3), dtype=np.int64)
+    for a in range(3):
+        for b in range(3):
+            if a != b:
+                less = _lex_less(corners[:, b], corners[:, a])
+                rank[:, a] += less
+    order = np.argmin(rank, axis=1)
+    rolled = np.stack([corners[np.arange(corners.shape[0]), (order + k) % 3] for k in range(3)], axis=1)
+    keys = rolled.reshape(rolled.shape[0], -1)
+    keys = keys[np.lexsort(keys.T[::-1])]
+    keys = keys + 0.0  # no negative zeros
+    return hashlib.sha256(np.ascontiguousarray(keys).tobytes()).hexdigest()[:16], int(keys.shape[0])
+
+
+def _lex_less(p, q):
+    """Row-wise lexicographic ``p < q`` of (n, 3) arrays."""
+    return (p[:, 0] < q[:, 0]) | ((p[:, 0] == q[:, 0]) & ((p[:, 1] < q[:, 1]) | ((p[:, 1] == q[:, 1]) & (p[:, 2] < q[:, 2]))))
+
+
+def _bench():
+    return (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
+        - cylinder(0.5, 4, axis=(0, 0, 1))
+
+
+def _plate():
+    plate = box((10.0, 6.0, 0.5))
+    for i in range(3):
+        for j in range(2):
+            plate = plate - cylinder(0.6, 2.0, center=(-3.0 + 3.0 * i, -1.5 + 3.0 * j, 0.0))
+    return plate
+
+
+def _blobs():
+    return smooth_union(sphere(0.6), translate(sphere(0.5), (0.7, 0.2, 0.1)),
+                        capsule((-0.5, -0.5, 0.0), (0.2, 0.6, 0.4), 0.25), blend=0.2)
+
+
+CASES = {
+    "benchmark part N=40": (_bench, dict(resolution=40)),
+    "benchmark part N=40 unrefined": (_bench, dict(resolution=40, refine=False)),
+    "benchmark part N=72 block 8": (_bench, dict(resolution=72, block=8)),
+    "plate with holes N=48": (_plate, dict(resolution=48)),
+    "smooth blobs N=36": (_blobs, dict(resolution=36)),
+}
+
+#: Digests and triangle counts of the current mesher (see the module docstring).
+PINNED = {
+    "benchmark part N=40": ("8fe72a9eed40063a", 22960),
+    "benchmark part N=40 unrefined": ("22a7fa8ac56ab4c7", 22960),
+    "benchmark part N=72 block 8": ("1ef6afb80c83962b", 74560),
+    "plate with holes N=48": ("82827a2865586273", 5804),
+    "smooth blobs N=36": ("f8be51919acac7d5", 5892),
+}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_mesh_is_pinned(name):
+    make, kwargs = CASES[name]
+    digest, n = triangle_digest(mesh(make(), progress=False, **kwargs))
+    assert (digest, n) == PINNED[name]
+
+
+def test_digest_sees_one_flipped_triangle():
+    m = mesh(_bench(), resolution=24, progress=False)
+    points, tri = faces_array(m)
+    flipped = tri.copy()
+    flipped[0] = flipped[0, ::-1]
+    import pyvista as pv
+
+    assert triangle_digest(pv.PolyData.from_regular_faces(points, flipped))[0] != triangle_digest(m)[0]
+    renumbered = np.random.default_rng(0).permutation(points.shape[0])
+    inverse = np.argsort(renumbered)
+    same = pv.PolyData.from_regular_faces(points[renumbered], inverse[tri][np.random.default_rng(1).permutation(tri.shape[0])][:, [1, 2, 0]])
+    assert triangle_digest(same) == triangle_digest(m)
