@@ -238,7 +238,7 @@ def grown_bounds(solid: Solid, t: float):
             shifted = [HalfSpace(c.params["normal"], np.asarray(c.params["point"]) + t * np.asarray(c.params["normal"]))
                        for c in planes]
             glo, ghi = _halfspace_box(shifted, glo, ghi)
-        return glo, np.maximum(ghi, glo)
+        return glo, ghi                 # lo > hi on an axis: empty, as `_intersection_bounds` says
     if isinstance(solid, Affine):
         clo, chi = grown_bounds(solid.children[0], t / solid._factor)
         a, off = solid._matrix, solid._offset
