@@ -98,17 +98,6 @@ def _cross(u, v):
     return out
 
 
-def _gradients(ff, points, step):
-    """Exact gradients of every facet ``(k, n, 3)``, their values ``(k, n)``, the deciding facets.
-
-    The facets' closed-form gradients (`FacetField.facets_with_gradients`);
-    leaves without one take forward steps of `step` (``1e-6 h``: the facets
-    are smooth where they are used).
-    """
-    _, decider, f0, g = ff.facets_with_gradients(points, step, decide=True)
-    return g, f0, decider
-
-
 @numba.njit(cache=True, nogil=True)
 def _candidate_cells(pts, faces, origin, h, cos_limit):
     """Lattice cell of every triangle and whether it departs from a vertex normal (one pass each)."""
@@ -214,10 +203,10 @@ def sharpen(solid, points, faces, origin, h):
     pair = np.unique(tcell[:, None] * np.int64(n) + f[tri])  # (cell, vertex), sorted by cell
     pcell, pvert = pair // n, pair % n
     verts, pinv = np.unique(pvert, return_inverse=True)
-    grads, _, decider = _gradients(ff, pts[verts], 1e-6 * h)
-    normal = _unit(grads[decider, np.arange(verts.shape[0])])
+    # the exact normal of the face deciding the field (closed forms; forward steps of 1e-6 h where none)
+    _, decider, _ = ff(pts[verts])
+    normal = _unit(ff.gradients_of(pts[verts], decider, 1e-6 * h))
     normal *= np.where(np.einsum("ij,ij->i", normal, vn[verts]) < 0, -1.0, 1.0)[:, None]
-    del grads
     exact = np.zeros((n, 3))
     exact[verts] = normal
     vface = np.full(n, -1, np.int64)
@@ -303,9 +292,9 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     q = x[rows].copy()
     r = np.arange(rows.shape[0])
     for _ in range(NEWTON_STEPS):
-        g, fv, _ = _gradients(ff, q, 1e-6 * h)
+        fv = ff.facet_values(q)
         val = np.stack([fv[idx[:, j], r] for j in range(k)], axis=1) * used
-        jac = np.stack([g[idx[:, j], r] for j in range(k)], axis=1) * used[:, :, None]
+        jac = ff.gradients_of(q, idx, 1e-6 * h) * used[:, :, None]
         jj = jac @ np.swapaxes(jac, 1, 2) + np.where(used, 0.0, 1.0)[:, :, None] * np.eye(k)
         ok = np.abs(np.linalg.det(jj)) > 1e-12
         y = np.zeros((rows.shape[0], k))

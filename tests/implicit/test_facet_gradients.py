@@ -62,3 +62,19 @@ def test_gradients_through_transforms_and_csg():
     # a scaled sphere stays a distance: unit gradient
     g = FacetField(scale(sphere(1.0), 3.0)).facet_gradients([[4.0, 0.0, 0.0]])
     np.testing.assert_allclose(g[0, 0], [1.0, 0.0, 0.0], atol=1e-12)
+
+
+def test_gradients_of_selected_facets():
+    part = translate(rotate(scale((sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)), 0.8), 30.0,
+                            axis=(1.0, 1.0, 0.0)), (0.1, -0.2, 0.05)) | torus(0.5, 0.1, center=(1.0, 0.0, 0.0))
+    ff = FacetField(part)
+    rng = np.random.default_rng(3)
+    p = rng.uniform(-1.2, 1.2, (300, 3))
+    _, g = ff.facets_with_gradients(p)
+    which = rng.integers(-1, len(ff.names), (300, 2))
+    got = ff.gradients_of(p, which)
+    want = np.where((which >= 0)[:, :, None], g[np.maximum(which, 0), np.arange(300)[:, None]], 0.0)
+    np.testing.assert_allclose(got, want, atol=1e-14)
+    assert got.shape == (300, 2, 3)
+    with pytest.raises(ValueError, match="which"):
+        ff.gradients_of(p, which[:10])
