@@ -76,6 +76,8 @@ COS_SHARP = 0.9
 EIGEN_CUTOFF = 0.03
 #: Gauss-Newton steps onto the common curve or point of the cell's faces (from the QEF point, one is enough).
 NEWTON_STEPS = 1
+#: A cell whose faces' common curve or point lies this far (in voxels) outside it keeps its triangles.
+ASTRAY = 0.1
 #: Feature vertices are kept this far (in voxels) inside their cell's faces.
 CELL_MARGIN = 1e-3
 #: A new triangle must face one ordinary vertex's exact normal with ``cos > MIN_FACING`` and oppose none.
@@ -240,7 +242,10 @@ def sharpen(solid, points, faces, origin, h):
     top = slot < 3
     labels[fcell[top], slot[top]] = fface[top]
     feature = rank >= 2
-    x = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
+    x, astray = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
+    # the faces' common curve or point lies outside the cell: the cell only touches it (a vertex on a
+    # lattice edge that lies on the curve, where the faces tie), and a clipped vertex would be off the curve
+    feature[astray] = False
     margin = CELL_MARGIN * h
     x = np.clip(x, cell_lo + margin, cell_lo + h - margin)
 
@@ -280,31 +285,67 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     """Gauss-Newton onto the common curve (2 faces) or point (3) of a cell's faces.
 
     Only cells whose rank equals their number of faces; a point that leaves
-    its cell (grown by half a voxel) keeps its QEF position.
+    its cell (grown by half a voxel) keeps its QEF position.  Also returns
+    the cells whose solved point lies more than ``ASTRAY`` voxels outside
+    them.
     """
     rows = np.flatnonzero(feature & (n_faces == rank) & (rank <= 3))
     if rows.shape[0] == 0:
-        return x
+        return x, rows
     k = 3
     sets = labels[rows]
     used = np.arange(k)[None, :] < rank[rows][:, None]
     idx = np.where(used, sets, 0)
     q = x[rows].copy()
-    r = np.arange(rows.shape[0])
-    for _ in range(NEWTON_STEPS):
+    q, jac = _newton(ff, q, idx, used, h, NEWTON_STEPS)
+    # an edge point outside the cell slides along the curve's tangent into the cell (one more step puts it
+    # back on the curve); a tangent line that misses the cell means the cell only touches the curve
+    # (the clip to the cell's margin comes later: an edge in a lattice plane stays on it)
+    eps = 0.01 * h
+    lo_c, hi_c = cell_lo[rows], cell_lo[rows] + h
+    off = np.any((q < lo_c - eps) | (q > hi_c + eps), axis=1) & (rank[rows] == 2)
+    astray = np.zeros(rows.shape[0], bool)
+    if off.any():
+        t = _unit(_cross(jac[off, 0], jac[off, 1]))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a, b = (lo_c[off] - q[off]) / t, (hi_c[off] - q[off]) / t
+        flat = np.abs(t) < 1e-12
+        inside_flat = (q[off] >= lo_c[off] - eps) & (q[off] <= hi_c[off] + eps)
+        s0 = np.where(flat, np.where(inside_flat, -np.inf, np.inf), np.minimum(a, b)).max(axis=1)
+        s1 = np.where(flat, np.where(inside_flat, np.inf, -np.inf), np.maximum(a, b)).min(axis=1)
+        hit = s0 <= s1
+        slide = np.clip(0.0, s0, s1)
+        moved = q[off] + np.where(hit, slide, 0.0)[:, None] * t
+        sub = np.flatnonzero(off)[hit]
+        if sub.shape[0]:
+            q[sub], _ = _newton(ff, moved[hit], idx[sub], used[sub], h, 1)
+        astray[np.flatnonzero(off)[~hit]] = True
+    lo = cell_lo[rows] - 0.5 * h
+    inside = np.all((q >= lo) & (q <= lo + 2.0 * h), axis=1) & np.all(np.isfinite(q), axis=1)
+    x = x.copy()
+    x[rows[inside]] = q[inside]
+    out = np.max(np.maximum(cell_lo[rows] - q, q - cell_lo[rows] - h), axis=1)
+    # (corners keep their clipped point: a corner cell's neighbours still carry the corner's faces)
+    astray |= np.isfinite(out) & (out > ASTRAY * h) & (rank[rows] == 2)
+    return x, rows[astray]
+
+
+def _newton(ff, q, idx, used, h, steps):
+    """Gauss-Newton steps onto the common zero set of the facets ``idx`` (``used`` of them per row)."""
+    k = idx.shape[1]
+    r = np.arange(q.shape[0])
+    q = q.copy()
+    jac = np.zeros((q.shape[0], k, 3))
+    for _ in range(steps):
         fv = ff.facet_values(q)
         val = np.stack([fv[idx[:, j], r] for j in range(k)], axis=1) * used
         jac = ff.gradients_of(q, idx, 1e-6 * h) * used[:, :, None]
         jj = jac @ np.swapaxes(jac, 1, 2) + np.where(used, 0.0, 1.0)[:, :, None] * np.eye(k)
         ok = np.abs(np.linalg.det(jj)) > 1e-12
-        y = np.zeros((rows.shape[0], k))
+        y = np.zeros((q.shape[0], k))
         y[ok] = np.linalg.solve(jj[ok], val[ok][:, :, None])[:, :, 0]
         q -= np.einsum("nji,nj->ni", jac, y)
-    lo = cell_lo[rows] - 0.5 * h
-    inside = np.all((q >= lo) & (q <= lo + 2.0 * h), axis=1) & np.all(np.isfinite(q), axis=1)
-    x = x.copy()
-    x[rows[inside]] = q[inside]
-    return x
+    return q, jac
 
 
 def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x):
