@@ -10,15 +10,19 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    cells are evaluated further (a few per cent of the mesh);
 2. exact normals: every such vertex is attributed to the CSG face deciding
    the field there (`implicit.facets.FacetField`: the primitive leaf, or one
-   face of a box or cylinder) and takes that face's gradient;
+   face of a box or cylinder) and takes that face's gradient, in closed
+   form (`FacetField.gradients_of`);
 3. the feature vertex: per cell, the quadric ``sum (n_i . (x - p_i))^2`` over
    the cell's vertices is minimised around their mass point with the
    pseudo-inverse of ``A^T A`` whose eigenvalues below ``EIGEN_CUTOFF`` times
    the largest are dropped; the number kept is the cell's rank (2: an edge,
    3: a corner).  When the cell holds exactly that many faces, a few
    Gauss-Newton steps on their fields put the vertex on their exact common
-   curve or point (curved faces included).  The vertex stays inside its
-   cell;
+   curve or point (curved faces included).  An edge point that falls
+   outside its cell slides along the curve's tangent into it and is put
+   back on the curve; a cell that the tangent line misses only touches
+   the curve (at a vertex on a lattice edge lying on it, where the faces
+   tie) and keeps its triangles.  The vertex stays inside its cell;
 4. the cell's triangles are replaced by a fan from the feature vertex over
    the boundary polygon of the cell's patch (cells whose patch is not one
    disc are left alone), and an edge between two fans whose end vertices
