@@ -20,9 +20,8 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    Gauss-Newton steps on their fields put the vertex on their exact common
    curve or point (curved faces included).  An edge point that falls
    outside its cell slides along the curve's tangent into it and is put
-   back on the curve; a cell that the tangent line misses only touches
-   the curve (at a vertex on a lattice edge lying on it, where the faces
-   tie) and keeps its triangles.  The vertex stays inside its cell;
+   back on the curve (clipped to the cell instead, it would leave the
+   curve).  The vertex stays inside its cell;
 4. the cell's triangles are replaced by a fan from the feature vertex over
    the boundary polygon of the cell's patch (cells whose patch is not one
    disc are left alone), and an edge between two fans whose end vertices
@@ -80,8 +79,6 @@ COS_SHARP = 0.9
 EIGEN_CUTOFF = 0.03
 #: Gauss-Newton steps onto the common curve or point of the cell's faces (from the QEF point, one is enough).
 NEWTON_STEPS = 1
-#: A cell whose faces' common curve or point lies this far (in voxels) outside it keeps its triangles.
-ASTRAY = 0.1
 #: Feature vertices are kept this far (in voxels) inside their cell's faces.
 CELL_MARGIN = 1e-3
 #: A new triangle must face one ordinary vertex's exact normal with ``cos > MIN_FACING`` and oppose none.
@@ -246,10 +243,7 @@ def sharpen(solid, points, faces, origin, h):
     top = slot < 3
     labels[fcell[top], slot[top]] = fface[top]
     feature = rank >= 2
-    x, astray = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
-    # the faces' common curve or point lies outside the cell: the cell only touches it (a vertex on a
-    # lattice edge that lies on the curve, where the faces tie), and a clipped vertex would be off the curve
-    feature[astray] = False
+    x = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
     margin = CELL_MARGIN * h
     x = np.clip(x, cell_lo + margin, cell_lo + h - margin)
 
@@ -289,13 +283,14 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     """Gauss-Newton onto the common curve (2 faces) or point (3) of a cell's faces.
 
     Only cells whose rank equals their number of faces; a point that leaves
-    its cell (grown by half a voxel) keeps its QEF position.  Also returns
-    the cells whose solved point lies more than ``ASTRAY`` voxels outside
-    them.
+    its cell (grown by half a voxel) keeps its QEF position.  An edge point
+    outside its cell slides along the curve's tangent to the nearest point
+    of the tangent line in the cell, and one more step puts it back on the
+    curve.
     """
     rows = np.flatnonzero(feature & (n_faces == rank) & (rank <= 3))
     if rows.shape[0] == 0:
-        return x, rows
+        return x
     k = 3
     sets = labels[rows]
     used = np.arange(k)[None, :] < rank[rows][:, None]
@@ -303,12 +298,11 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     q = x[rows].copy()
     q, jac = _newton(ff, q, idx, used, h, NEWTON_STEPS)
     # an edge point outside the cell slides along the curve's tangent into the cell (one more step puts it
-    # back on the curve); a tangent line that misses the cell means the cell only touches the curve
+    # back on the curve): clipped to the cell instead, it would leave the curve
     # (the clip to the cell's margin comes later: an edge in a lattice plane stays on it)
     eps = 0.01 * h
     lo_c, hi_c = cell_lo[rows], cell_lo[rows] + h
     off = np.any((q < lo_c - eps) | (q > hi_c + eps), axis=1) & (rank[rows] == 2)
-    astray = np.zeros(rows.shape[0], bool)
     if off.any():
         t = _unit(_cross(jac[off, 0], jac[off, 1]))
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -323,15 +317,11 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
         sub = np.flatnonzero(off)[hit]
         if sub.shape[0]:
             q[sub], _ = _newton(ff, moved[hit], idx[sub], used[sub], h, 1)
-        astray[np.flatnonzero(off)[~hit]] = True
     lo = cell_lo[rows] - 0.5 * h
     inside = np.all((q >= lo) & (q <= lo + 2.0 * h), axis=1) & np.all(np.isfinite(q), axis=1)
     x = x.copy()
     x[rows[inside]] = q[inside]
-    out = np.max(np.maximum(cell_lo[rows] - q, q - cell_lo[rows] - h), axis=1)
-    # (corners keep their clipped point: a corner cell's neighbours still carry the corner's faces)
-    astray |= np.isfinite(out) & (out > ASTRAY * h) & (rank[rows] == 2)
-    return x, rows[astray]
+    return x
 
 
 def _newton(ff, q, idx, used, h, steps):
