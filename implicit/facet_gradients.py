@@ -30,13 +30,13 @@ def _to_world(node, gq):
     return gq @ node._frame
 
 
-def _forward(node, p, v, step):
-    """Forward differences of the leaf's own field: the fallback."""
-    g = np.empty((p.shape[0], 3))
+def _forward(facets, node, p, v, step):
+    """Forward differences ``(k, n, 3)`` of the leaf's facet values ``v`` (``facets(node, p)``): the fallback."""
+    g = np.empty(v.shape + (3,))
     for j in range(3):
         q = p.copy()
         q[:, j] += step
-        g[:, j] = (np.asarray(node._evaluate(q), dtype=np.float64) - v) / step
+        g[:, :, j] = (np.asarray(facets(node, q)[1], dtype=np.float64) - v) / step
     return g
 
 
@@ -63,10 +63,12 @@ def _cone(node, p):
     return sign * d, _to_world(node, gq)
 
 
-def leaf_facets_with_gradients(node, p, step):
+def leaf_facets_with_gradients(node, p, step, facets=None):
     """Names, values ``(k, n)`` and gradients ``(k, n, 3)`` of a leaf's facets at `p`.
 
-    `step` is the forward-difference step of the fallback (leaf coordinates).
+    `step` is the forward-difference step of the fallback (leaf coordinates);
+    `facets(node, p) -> (names, values)` gives the facets of the leaves
+    without closed forms here (default: the leaf as one facet).
 
     Examples
     --------
@@ -115,5 +117,12 @@ def leaf_facets_with_gradients(node, p, step):
             w = w - t[:, None] * node._ab
         r = np.sqrt(np.einsum("ij,ij->i", w, w))
         return [""], (r - node._r)[None, :], _safe_div(w, r[:, None])[None]
-    v = np.asarray(node._evaluate(p), dtype=np.float64)
-    return [""], v[None, :], _forward(node, p, v, step)[None]
+    if facets is None:
+        facets = _whole_leaf
+    names, v = facets(node, p)
+    v = np.asarray(v, dtype=np.float64)
+    return names, v, _forward(facets, node, p, v, step)
+
+
+def _whole_leaf(node, p):
+    return [""], np.asarray(node._evaluate(p), dtype=np.float64)[None, :]

@@ -246,7 +246,7 @@ class FacetField:
             lo, hi = np.searchsorted(fac, [start, start + k])
             if hi > lo:
                 sel = slice(lo, hi)
-                _, _, fg = leaf_facets_with_gradients(node, np.ascontiguousarray(p[rows[sel]]), step)
+                _, _, fg = leaf_facets_with_gradients(node, np.ascontiguousarray(p[rows[sel]]), step, _leaf_facets)
                 g[sel] = fg[fac[sel] - start, np.arange(hi - lo)]
             counter[0] += k
         return start, counter[0]
@@ -322,7 +322,7 @@ class FacetField:
             for i in range(start, len(vals)):
                 vals[i] = vals[i] - dist
             return (r[0] - dist, r[1]) if decide else None
-        sub, fv, fg = leaf_facets_with_gradients(node, p, step)
+        sub, fv, fg = leaf_facets_with_gradients(node, p, step, _leaf_facets)
         start = len(vals)
         counter[0] += 1
         vals.extend(fv)
