@@ -57,10 +57,10 @@ def test_gradients_through_transforms_and_csg():
     _check(tree, seed=1)
     # a rotated plane's gradient is the rotated normal, exactly
     ff = FacetField(rotate(box(1.0), 90.0, axis=(0.0, 0.0, 1.0)))
-    g = ff.facet_gradients([[0.0, 0.0, 0.0]])
+    g = ff.facets_with_gradients([[0.0, 0.0, 0.0]])[1]
     np.testing.assert_allclose(g[0, 0], [0.0, 1.0, 0.0], atol=1e-15)
     # a scaled sphere stays a distance: unit gradient
-    g = FacetField(scale(sphere(1.0), 3.0)).facet_gradients([[4.0, 0.0, 0.0]])
+    g = FacetField(scale(sphere(1.0), 3.0)).facets_with_gradients([[4.0, 0.0, 0.0]])[1]
     np.testing.assert_allclose(g[0, 0], [1.0, 0.0, 0.0], atol=1e-12)
 
 
