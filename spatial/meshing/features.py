@@ -10,15 +10,18 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    cells are evaluated further (a few per cent of the mesh);
 2. exact normals: every such vertex is attributed to the CSG face deciding
    the field there (`implicit.facets.FacetField`: the primitive leaf, or one
-   face of a box or cylinder) and takes that face's gradient;
+   face of a box or cylinder) and takes that face's gradient, in closed
+   form (`FacetField.gradients_of`);
 3. the feature vertex: per cell, the quadric ``sum (n_i . (x - p_i))^2`` over
    the cell's vertices is minimised around their mass point with the
    pseudo-inverse of ``A^T A`` whose eigenvalues below ``EIGEN_CUTOFF`` times
    the largest are dropped; the number kept is the cell's rank (2: an edge,
    3: a corner).  When the cell holds exactly that many faces, a few
    Gauss-Newton steps on their fields put the vertex on their exact common
-   curve or point (curved faces included).  The vertex stays inside its
-   cell;
+   curve or point (curved faces included).  An edge point that falls
+   outside its cell slides along the curve's tangent into it and is put
+   back on the curve (clipped to the cell instead, it would leave the
+   curve).  The vertex stays inside its cell;
 4. the cell's triangles are replaced by a fan from the feature vertex over
    the boundary polygon of the cell's patch (cells whose patch is not one
    disc are left alone), and an edge between two fans whose end vertices
@@ -96,17 +99,6 @@ def _cross(u, v):
     out[:, 1] = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
     out[:, 2] = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
     return out
-
-
-def _gradients(ff, points, step):
-    """Forward-difference gradients of every facet ``(k, n, 3)``, their values ``(k, n)``, the deciding facets.
-
-    The facets are planes, cylinders, spheres...: smooth where they are
-    used, so one-sided steps of ``1e-6 h`` are accurate far below ``h``.
-    """
-    _, decider, f0 = ff(points)
-    g = np.stack([(ff.facet_values(points + np.eye(3)[j] * step) - f0) / step for j in range(3)], axis=2)
-    return g, f0, decider
 
 
 @numba.njit(cache=True, nogil=True)
@@ -214,10 +206,10 @@ def sharpen(solid, points, faces, origin, h):
     pair = np.unique(tcell[:, None] * np.int64(n) + f[tri])  # (cell, vertex), sorted by cell
     pcell, pvert = pair // n, pair % n
     verts, pinv = np.unique(pvert, return_inverse=True)
-    grads, _, decider = _gradients(ff, pts[verts], 1e-6 * h)
-    normal = _unit(grads[decider, np.arange(verts.shape[0])])
+    # the exact normal of the face deciding the field (closed forms; forward steps of 1e-6 h where none)
+    _, decider, _ = ff(pts[verts])
+    normal = _unit(ff.gradients_of(pts[verts], decider, 1e-6 * h))
     normal *= np.where(np.einsum("ij,ij->i", normal, vn[verts]) < 0, -1.0, 1.0)[:, None]
-    del grads
     exact = np.zeros((n, 3))
     exact[verts] = normal
     vface = np.full(n, -1, np.int64)
@@ -291,7 +283,10 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     """Gauss-Newton onto the common curve (2 faces) or point (3) of a cell's faces.
 
     Only cells whose rank equals their number of faces; a point that leaves
-    its cell (grown by half a voxel) keeps its QEF position.
+    its cell (grown by half a voxel) keeps its QEF position.  An edge point
+    outside its cell slides along the curve's tangent to the nearest point
+    of the tangent line in the cell, and one more step puts it back on the
+    curve.
     """
     rows = np.flatnonzero(feature & (n_faces == rank) & (rank <= 3))
     if rows.shape[0] == 0:
@@ -301,21 +296,50 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     used = np.arange(k)[None, :] < rank[rows][:, None]
     idx = np.where(used, sets, 0)
     q = x[rows].copy()
-    r = np.arange(rows.shape[0])
-    for _ in range(NEWTON_STEPS):
-        g, fv, _ = _gradients(ff, q, 1e-6 * h)
-        val = np.stack([fv[idx[:, j], r] for j in range(k)], axis=1) * used
-        jac = np.stack([g[idx[:, j], r] for j in range(k)], axis=1) * used[:, :, None]
-        jj = jac @ np.swapaxes(jac, 1, 2) + np.where(used, 0.0, 1.0)[:, :, None] * np.eye(k)
-        ok = np.abs(np.linalg.det(jj)) > 1e-12
-        y = np.zeros((rows.shape[0], k))
-        y[ok] = np.linalg.solve(jj[ok], val[ok][:, :, None])[:, :, 0]
-        q -= np.einsum("nji,nj->ni", jac, y)
+    q, jac = _newton(ff, q, idx, used, h, NEWTON_STEPS)
+    # an edge point outside the cell slides along the curve's tangent into the cell (one more step puts it
+    # back on the curve): clipped to the cell instead, it would leave the curve
+    # (the clip to the cell's margin comes later: an edge in a lattice plane stays on it)
+    eps = 0.01 * h
+    lo_c, hi_c = cell_lo[rows], cell_lo[rows] + h
+    off = np.any((q < lo_c - eps) | (q > hi_c + eps), axis=1) & (rank[rows] == 2)
+    if off.any():
+        t = _unit(_cross(jac[off, 0], jac[off, 1]))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a, b = (lo_c[off] - q[off]) / t, (hi_c[off] - q[off]) / t
+        flat = np.abs(t) < 1e-12
+        inside_flat = (q[off] >= lo_c[off] - eps) & (q[off] <= hi_c[off] + eps)
+        s0 = np.where(flat, np.where(inside_flat, -np.inf, np.inf), np.minimum(a, b)).max(axis=1)
+        s1 = np.where(flat, np.where(inside_flat, np.inf, -np.inf), np.maximum(a, b)).min(axis=1)
+        hit = s0 <= s1
+        slide = np.clip(0.0, s0, s1)
+        moved = q[off] + np.where(hit, slide, 0.0)[:, None] * t
+        sub = np.flatnonzero(off)[hit]
+        if sub.shape[0]:
+            q[sub], _ = _newton(ff, moved[hit], idx[sub], used[sub], h, 1)
     lo = cell_lo[rows] - 0.5 * h
     inside = np.all((q >= lo) & (q <= lo + 2.0 * h), axis=1) & np.all(np.isfinite(q), axis=1)
     x = x.copy()
     x[rows[inside]] = q[inside]
     return x
+
+
+def _newton(ff, q, idx, used, h, steps):
+    """Gauss-Newton steps onto the common zero set of the facets ``idx`` (``used`` of them per row)."""
+    k = idx.shape[1]
+    r = np.arange(q.shape[0])
+    q = q.copy()
+    jac = np.zeros((q.shape[0], k, 3))
+    for _ in range(steps):
+        fv = ff.facet_values(q)
+        val = np.stack([fv[idx[:, j], r] for j in range(k)], axis=1) * used
+        jac = ff.gradients_of(q, idx, 1e-6 * h) * used[:, :, None]
+        jj = jac @ np.swapaxes(jac, 1, 2) + np.where(used, 0.0, 1.0)[:, :, None] * np.eye(k)
+        ok = np.abs(np.linalg.det(jj)) > 1e-12
+        y = np.zeros((q.shape[0], k))
+        y[ok] = np.linalg.solve(jj[ok], val[ok][:, :, None])[:, :, 0]
+        q -= np.einsum("nji,nj->ni", jac, y)
+    return q, jac
 
 
 def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x):
