@@ -15,7 +15,7 @@ import re
 import time
 import uuid
 
-__all__ = ["atomic_write", "clean_stale_temporaries", "STALE_SECONDS"]
+__all__ = ["atomic_write", "clean_stale_temporaries", "STALE_SECONDS", "check_output_path"]
 
 #: Age after which a temporary file whose writer is unknown counts as abandoned.
 STALE_SECONDS = 15 * 60
@@ -109,3 +109,22 @@ def atomic_write(path, write, suffix=None):
             os.unlink(tmp)
         raise
     return path
+
+
+def check_output_path(path, extension: str, name: str = "path") -> str:
+    """`path` as a string when it ends in `extension` and its folder exists; else a clear error.
+
+    Called before any work, so a bad output name fails before the job starts.
+
+    Examples
+    --------
+    >>> check_output_path("part.png", ".png")
+    'part.png'
+    """
+    p = os.fspath(path)
+    if not p.lower().endswith(extension):
+        raise ValueError(f"{name}: expected a {extension} file name, got {p!r}")
+    folder = os.path.dirname(os.path.abspath(p))
+    if not os.path.isdir(folder):
+        raise FileNotFoundError(2, "No such directory", folder)
+    return p

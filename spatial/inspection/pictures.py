@@ -13,19 +13,13 @@ import os
 
 import numpy as np
 
-from ..files.atomic import atomic_write
+from ..files.atomic import atomic_write, check_output_path
 
 __all__ = ["deviation_picture", "histogram_picture"]
 
 
 def _check_png(path):
-    p = os.fspath(path)
-    if not p.lower().endswith(".png"):
-        raise ValueError(f"path: expected a .png file name, got {p!r}")
-    folder = os.path.dirname(os.path.abspath(p))
-    if not os.path.isdir(folder):
-        raise FileNotFoundError(2, "No such directory", folder)
-    return p
+    return check_output_path(path, ".png")
 
 
 def deviation_picture(result, path, *, solid=None, worst=5, window_size=(1400, 700), title=None, resolution=96):

@@ -13,20 +13,14 @@ import os
 
 import numpy as np
 
-from ..files.atomic import atomic_write
+from ..files.atomic import atomic_write, check_output_path
 from .gcode import path_points, read_gcode
 
 __all__ = ["toolpath_picture", "removal_picture"]
 
 
 def _check_png(path):
-    p = os.fspath(path)
-    if not p.lower().endswith(".png"):
-        raise ValueError(f"path: expected a .png file name, got {p!r}")
-    folder = os.path.dirname(os.path.abspath(p))
-    if not os.path.isdir(folder):
-        raise FileNotFoundError(2, "No such directory", folder)
-    return p
+    return check_output_path(path, ".png")
 
 
 def toolpath_picture(toolpath, path, *, title=None):
