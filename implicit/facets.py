@@ -72,14 +72,7 @@ class FacetField:
     def _walk(self, node, p, vals, names, counter):
         kind = node.kind
         if kind in ("union", "intersection", "difference"):
-            results = [self._walk(c, p, vals, names, counter) for c in node.children]
-            values = np.stack([r[0] for r in results])
-            decs = np.stack([r[1] for r in results])
-            if kind == "difference":
-                values[1:] *= -1.0
-            idx = values.argmin(axis=0) if kind == "union" else values.argmax(axis=0)
-            cols = np.arange(values.shape[1])
-            return values[idx, cols], decs[idx, cols]
+            return _decide(kind, [self._walk(c, p, vals, names, counter) for c in node.children])
         if kind == "family":
             # a part-family instance is its built tree: its faces are that tree's
             return self._walk(node.children[0], p, vals, names, counter)
@@ -288,15 +281,7 @@ class FacetField:
         kind = node.kind
         if kind in ("union", "intersection", "difference"):
             results = [self._walk_grad(c, p, vals, grads, counter, step, decide) for c in node.children]
-            if not decide:
-                return None
-            values = np.stack([r[0] for r in results])
-            decs = np.stack([r[1] for r in results])
-            if kind == "difference":
-                values[1:] *= -1.0
-            idx = values.argmin(axis=0) if kind == "union" else values.argmax(axis=0)
-            cols = np.arange(values.shape[1])
-            return values[idx, cols], decs[idx, cols]
+            return _decide(kind, results) if decide else None
         if kind == "family":
             return self._walk_grad(node.children[0], p, vals, grads, counter, step, decide)
         if kind == "complement":
@@ -336,3 +321,18 @@ class FacetField:
 def facet_field(solid: Solid) -> FacetField:
     """The `FacetField` of `solid` (see there)."""
     return FacetField(solid)
+
+
+def _decide(kind, results):
+    """The value of a sharp Boolean and, per point, the face that decides it.
+
+    `results` holds each child's ``(values, deciding face)``; a difference
+    negates its tools' values, a union takes the smallest, the others the largest.
+    """
+    values = np.stack([r[0] for r in results])
+    decs = np.stack([r[1] for r in results])
+    if kind == "difference":
+        values[1:] *= -1.0
+    idx = values.argmin(axis=0) if kind == "union" else values.argmax(axis=0)
+    cols = np.arange(values.shape[1])
+    return values[idx, cols], decs[idx, cols]
