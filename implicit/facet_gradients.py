@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .primitives import capped_cone_parts
+
 __all__ = ["leaf_facets_with_gradients"]
 
 
@@ -45,14 +47,7 @@ def _cone(node, p):
     loc = _axial(node, p)
     qx = np.hypot(loc[:, 0], loc[:, 1])
     qy = loc[:, 2] - node._hh
-    hh, r1, r2 = node._hh, node._r1, node._r2
-    k2x, k2y = r2 - r1, 2.0 * hh
-    cax = qx - np.minimum(qx, np.where(qy < 0.0, r1, r2))
-    cay = np.abs(qy) - hh
-    t = np.clip(((r2 - qx) * k2x + (hh - qy) * k2y) / (k2x * k2x + k2y * k2y), 0.0, 1.0)
-    cbx = qx - r2 + k2x * t
-    cby = qy - hh + k2y * t
-    sign = np.where((cbx < 0.0) & (cay < 0.0), -1.0, 1.0)
+    cax, cay, cbx, cby, sign = capped_cone_parts(qx, qy, node._hh, node._r1, node._r2)
     da, db = cax * cax + cay * cay, cbx * cbx + cby * cby
     use_a = da < db
     d = np.sqrt(np.minimum(da, db))

@@ -173,6 +173,23 @@ class Cylinder(_Primitive):
         return outside + np.minimum(np.maximum(dr, dz), 0.0)
 
 
+def capped_cone_parts(qx, qy, hh, r1, r2):
+    """Quilez's exact capped cone in its (radial, axial) plane: the vectors to the nearest
+    points of the cap (``ca``) and of the slanted side (``cb``), and the sign (-1 inside).
+
+    ``qx`` is the distance from the axis, ``qy`` the axial coordinate minus ``hh``; the
+    distance is ``sign * sqrt(min(|ca|^2, |cb|^2))``.
+    """
+    k2x, k2y = r2 - r1, 2.0 * hh
+    cax = qx - np.minimum(qx, np.where(qy < 0.0, r1, r2))
+    cay = np.abs(qy) - hh
+    t = np.clip(((r2 - qx) * k2x + (hh - qy) * k2y) / (k2x * k2x + k2y * k2y), 0.0, 1.0)
+    cbx = qx - r2 + k2x * t
+    cby = qy - hh + k2y * t
+    sign = np.where((cbx < 0.0) & (cay < 0.0), -1.0, 1.0)
+    return cax, cay, cbx, cby, sign
+
+
 class Cone(_Primitive):
     """Cone frustum: disc of `radius` at `center`, disc of `top_radius` at
     `center + height * axis` (``top_radius=0`` is a pointed cone)."""
@@ -201,15 +218,7 @@ class Cone(_Primitive):
         # Quilez's exact capped cone, in the local frame with the axis from -hh to +hh.
         loc = (p - self._c) @ self._frame.T
         qx = np.hypot(loc[:, 0], loc[:, 1])
-        qy = loc[:, 2] - self._hh
-        hh, r1, r2 = self._hh, self._r1, self._r2
-        k2x, k2y = r2 - r1, 2.0 * hh
-        cax = qx - np.minimum(qx, np.where(qy < 0.0, r1, r2))
-        cay = np.abs(qy) - hh
-        t = np.clip(((r2 - qx) * k2x + (hh - qy) * k2y) / (k2x * k2x + k2y * k2y), 0.0, 1.0)
-        cbx = qx - r2 + k2x * t
-        cby = qy - hh + k2y * t
-        sign = np.where((cbx < 0.0) & (cay < 0.0), -1.0, 1.0)
+        cax, cay, cbx, cby, sign = capped_cone_parts(qx, loc[:, 2] - self._hh, self._hh, self._r1, self._r2)
         return sign * np.sqrt(np.minimum(cax * cax + cay * cay, cbx * cbx + cby * cby))
 
 
