@@ -34,7 +34,7 @@ from .polyhedra import prism
 from .primitives import box, cylinder
 from .solid import Solid
 
-__all__ = ["Parameter", "Family", "FamilyInstance", "families", "family", "instance", "register_family"]
+__all__ = ["Parameter", "Family", "FamilyInstance", "families", "family", "instance", "label", "register_family"]
 
 
 @dataclass(frozen=True)
@@ -179,23 +179,75 @@ def family(name: str) -> Family:
         raise ValueError(f"unknown family {name!r}; known: {', '.join(_FAMILIES)}") from None
 
 
+#: Labels collected while families build (a stack: a builder may build other families).
+_BUILDING: list = []
+
+
+def label(solid: Solid, name: str, faces: dict | None = None) -> Solid:
+    """Name the faces of `solid`, a node a family's builder makes; returns `solid`.
+
+    The faces of the node's leaves (``wall``, ``top``, ``+x`` ... see
+    `implicit.facets.FacetField`) are then called ``name.<face>``, or
+    ``name.<faces[face]>`` where `faces` renames one (a value with a dot is a
+    whole name, for a face shared with another node); a leaf with a single
+    face (a sphere) is called `name`.  An inner label wins over an outer one.
+    The names belong to the family instance being built: the JSON form keeps
+    only the family call, and rebuilding the instance labels its tree again.
+
+    Raises
+    ------
+    ValueError
+        Outside a family's builder, or for an empty or dotted name.
+
+    Examples
+    --------
+    >>> from implicit.families import instance
+    >>> plate = instance("hole_plate", rows=1, cols=2)
+    >>> sorted({name for _, name, _ in plate.labels})
+    ['hole_1', 'hole_2', 'plate']
+    """
+    if not isinstance(solid, Solid):
+        raise TypeError(f"label: expected a Solid, got {type(solid).__name__}")
+    if not isinstance(name, str) or not name or "." in name or name != name.strip():
+        raise ValueError(f"label: expected a name without dots or spaces around it, got {name!r}")
+    faces = dict(faces or {})
+    for key, value in faces.items():
+        if not isinstance(key, str) or not isinstance(value, str) or not value.strip(". "):
+            raise ValueError(f"label: faces must map face names to names, got {key!r}: {value!r}")
+    if not _BUILDING:
+        raise ValueError("label: faces are named inside a family's builder (the instance carries the names)")
+    _BUILDING[-1].append((solid, name, faces))
+    return solid
+
+
 class FamilyInstance(Solid):
     """One member of a family: the built tree as the single child.
 
     `params` is ``{"family": name, "params": {every parameter: value}}``;
     the JSON form stores only that (the child is rebuilt on loading).
+    `labels` holds the face names the builder gave its nodes (`label`).
     """
 
     kind = "family"
     serialize_children = False
-    __slots__ = ()
+    __slots__ = ("_labels",)
 
     def __init__(self, name: str, params: dict | None = None):
         fam = family(name)
         values = fam.resolve({} if params is None else params)
-        built = fam.build(**values)
+        _BUILDING.append([])
+        try:
+            built = fam.build(**values)
+        finally:
+            labels = _BUILDING.pop()
         super().__init__((built,), {"family": fam.name, "params": values}, built.bounds,
                          exact=built.exact, lipschitz=built.lipschitz)
+        object.__setattr__(self, "_labels", tuple(labels))
+
+    @property
+    def labels(self) -> tuple:
+        """``(node, name, faces)`` for every node of the built tree its builder named (`label`)."""
+        return self._labels
 
     @classmethod
     def from_params(cls, children, params):
@@ -277,8 +329,9 @@ def _hex_bolt(diameter, length, head_height, across_flats):
     circum = across_flats / math.sqrt(3.0)
     angles = np.radians(np.arange(6) * 60.0)
     hexagon = np.column_stack([circum * np.cos(angles), circum * np.sin(angles)])
-    head = prism(hexagon, head_height, center=(0.0, 0.0, head_height / 2))
-    shank = cylinder(diameter / 2, length, center=(0.0, 0.0, -length / 2))
+    head = label(prism(hexagon, head_height, center=(0.0, 0.0, head_height / 2)), "head")
+    shank = label(cylinder(diameter / 2, length, center=(0.0, 0.0, -length / 2)), "shank",
+                  {"top": "top", "bottom": "end"})
     return union(head, shank)
 
 
@@ -315,14 +368,18 @@ def _flanged_pipe_check(outer_diameter, wall, length, flange_diameter, flange_th
 def _flanged_pipe(outer_diameter, wall, length, flange_diameter, flange_thickness, bolt_holes,
                   hole_diameter, bolt_circle):
     z_flange = length / 2 - flange_thickness / 2
-    body = union(cylinder(outer_diameter / 2, length),
-                 cylinder(flange_diameter / 2, flange_thickness, center=(0, 0, z_flange)),
-                 cylinder(flange_diameter / 2, flange_thickness, center=(0, 0, -z_flange)))
-    tools = [cylinder(outer_diameter / 2 - wall, 2 * length)]
+    body = union(label(cylinder(outer_diameter / 2, length), "pipe", {"wall": "outside", "top": "top_flange.face",
+                                                                      "bottom": "bottom_flange.face"}),
+                 label(cylinder(flange_diameter / 2, flange_thickness, center=(0, 0, z_flange)), "top_flange",
+                       {"wall": "rim", "top": "face", "bottom": "back"}),
+                 label(cylinder(flange_diameter / 2, flange_thickness, center=(0, 0, -z_flange)), "bottom_flange",
+                       {"wall": "rim", "top": "back", "bottom": "face"}))
+    tools = [label(cylinder(outer_diameter / 2 - wall, 2 * length), "pipe", {"wall": "bore"})]
     angles = 2 * np.pi * np.arange(bolt_holes) / max(bolt_holes, 1)
-    for a in angles:  # one tool per hole (a handful of nodes, not points)
-        tools.append(cylinder(hole_diameter / 2, length * 1.01,
-                              center=(bolt_circle / 2 * math.cos(a), bolt_circle / 2 * math.sin(a), 0.0)))
+    for i, a in enumerate(angles):  # one tool per hole (a handful of nodes, not points)
+        tools.append(label(cylinder(hole_diameter / 2, length * 1.01,
+                                    center=(bolt_circle / 2 * math.cos(a), bolt_circle / 2 * math.sin(a), 0.0)),
+                           f"hole_{i + 1}"))
     return difference(body, *tools)
 
 
@@ -361,15 +418,25 @@ def _l_bracket_check(width, leg_a, leg_b, thickness, hole_diameter, holes_per_le
                             f"({length:g} long, hole pitch {pitch:g})")
 
 
+#: Face names of the bracket's two legs (the base along +x, the upright along +z).
+_BRACKET_BASE = {"-z": "base_bottom", "+z": "base_top", "+x": "base_end", "-x": "back", "+y": "side_2",
+                 "-y": "side_1"}
+_BRACKET_UPRIGHT = {"+z": "upright_top", "+x": "upright_front", "-x": "back", "-z": "base_bottom", "+y": "side_2",
+                    "-y": "side_1"}
+
+
 def _l_bracket(width, leg_a, leg_b, thickness, hole_diameter, holes_per_leg):
-    base = box((leg_a, width, thickness), center=(leg_a / 2, width / 2, thickness / 2))
-    upright = box((thickness, width, leg_b), center=(thickness / 2, width / 2, leg_b / 2))
+    base = label(box((leg_a, width, thickness), center=(leg_a / 2, width / 2, thickness / 2)), "bracket",
+                 _BRACKET_BASE)
+    upright = label(box((thickness, width, leg_b), center=(thickness / 2, width / 2, leg_b / 2)), "bracket",
+                    _BRACKET_UPRIGHT)
     tools = []
-    for x in _leg_holes((thickness, leg_a), holes_per_leg):
-        tools.append(cylinder(hole_diameter / 2, 3 * thickness, center=(x, width / 2, thickness / 2)))
-    for z in _leg_holes((thickness, leg_b), holes_per_leg):
-        tools.append(cylinder(hole_diameter / 2, 3 * thickness, center=(thickness / 2, width / 2, z),
-                              axis=(1.0, 0.0, 0.0)))
+    for i, x in enumerate(_leg_holes((thickness, leg_a), holes_per_leg)):
+        tools.append(label(cylinder(hole_diameter / 2, 3 * thickness, center=(x, width / 2, thickness / 2)),
+                           f"hole_{i + 1}"))
+    for i, z in enumerate(_leg_holes((thickness, leg_b), holes_per_leg)):
+        tools.append(label(cylinder(hole_diameter / 2, 3 * thickness, center=(thickness / 2, width / 2, z),
+                                    axis=(1.0, 0.0, 0.0)), f"hole_{holes_per_leg + i + 1}"))
     body = union(base, upright)
     return difference(body, *tools) if tools else body
 
@@ -412,9 +479,9 @@ def _hole_plate_check(length, width, thickness, hole_diameter, rows, cols, margi
 
 
 def _hole_plate(length, width, thickness, hole_diameter, rows, cols, margin):
-    plate = box((length, width, thickness))
-    holes = [cylinder(hole_diameter / 2, 3 * thickness, center=(x, y, 0.0))
-             for x, y in _hole_centres(length, width, margin, rows, cols)]
+    plate = label(box((length, width, thickness)), "plate", {"+z": "top", "-z": "bottom"})
+    holes = [label(cylinder(hole_diameter / 2, 3 * thickness, center=(x, y, 0.0)), f"hole_{i + 1}")
+             for i, (x, y) in enumerate(_hole_centres(length, width, margin, rows, cols))]
     return difference(plate, *holes)
 
 

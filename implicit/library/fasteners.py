@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from ..csg import difference, union
+from ..families import label
 from ..polyhedra import prism
 from ..primitives import cylinder
 from .common import count, define, fail, hexagon, plane, pos, round_face, standard_instance  # noqa: F401
@@ -48,8 +49,10 @@ def _bolt_check(diameter, length, head_height, across_flats):
 
 
 def _bolt(diameter, length, head_height, across_flats):
-    head = prism(hexagon(across_flats), head_height, center=(0.0, 0.0, head_height / 2))
-    shank = cylinder(diameter / 2, length, center=(0.0, 0.0, -length / 2))
+    head = label(prism(hexagon(across_flats), head_height, center=(0.0, 0.0, head_height / 2)), "bolt",
+                 {"top": "head_top", "bottom": "bearing_face", "side": "head_flats"})
+    shank = label(cylinder(diameter / 2, length, center=(0.0, 0.0, -length / 2)), "bolt",
+                  {"wall": "shank", "bottom": "end", "top": "shank_top"})
     return union(head, shank)
 
 
@@ -83,8 +86,10 @@ def _nut_check(diameter, height, across_flats):
 
 
 def _nut(diameter, height, across_flats):
-    body = prism(hexagon(across_flats), height, center=(0.0, 0.0, height / 2))
-    return difference(body, cylinder(diameter / 2, 3 * height, center=(0.0, 0.0, height / 2)))
+    body = label(prism(hexagon(across_flats), height, center=(0.0, 0.0, height / 2)), "nut",
+                 {"top": "top", "bottom": "bearing_face", "side": "flats"})
+    bore = label(cylinder(diameter / 2, 3 * height, center=(0.0, 0.0, height / 2)), "nut", {"wall": "bore"})
+    return difference(body, bore)
 
 
 def _nut_faces(diameter, height, across_flats):
@@ -115,8 +120,11 @@ def _washer_check(inner_diameter, outer_diameter, thickness):
 
 
 def _washer(inner_diameter, outer_diameter, thickness):
-    ring = cylinder(outer_diameter / 2, thickness, center=(0.0, 0.0, thickness / 2))
-    return difference(ring, cylinder(inner_diameter / 2, 3 * thickness, center=(0.0, 0.0, thickness / 2)))
+    ring = label(cylinder(outer_diameter / 2, thickness, center=(0.0, 0.0, thickness / 2)), "washer",
+                 {"wall": "outside"})
+    hole = label(cylinder(inner_diameter / 2, 3 * thickness, center=(0.0, 0.0, thickness / 2)), "washer",
+                 {"wall": "bore"})
+    return difference(ring, hole)
 
 
 def _washer_faces(inner_diameter, outer_diameter, thickness):

@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from ..csg import difference
-from ..families import Parameter, instance
+from ..families import Parameter, instance, label
 from ..primitives import box, cylinder
 from ..sweeps import extrude, polygon
 from .common import count, define, fail, plane, pos, round_face
@@ -115,13 +115,15 @@ def _gear_check(module, teeth, pressure_angle, face_width, bore, keyway_width, k
 
 
 def _gear(module, teeth, pressure_angle, face_width, bore, keyway_width, keyway_depth):
-    body = extrude(polygon(gear_outline(module, teeth, pressure_angle)), face_width)
+    body = label(extrude(polygon(gear_outline(module, teeth, pressure_angle)), face_width), "gear",
+                 {"top": "front", "bottom": "back", "side": "teeth"})
     tools = []
     if bore:
-        tools.append(cylinder(bore / 2, 3 * face_width))
+        tools.append(label(cylinder(bore / 2, 3 * face_width), "gear", {"wall": "bore"}))
     if keyway_width:
         top = bore / 2 + keyway_depth
-        tools.append(box((keyway_width, top, 3 * face_width), center=(0.0, top / 2, 0.0)))
+        tools.append(label(box((keyway_width, top, 3 * face_width), center=(0.0, top / 2, 0.0)), "gear",
+                           {"+y": "keyway_floor", "-x": "keyway_side_1", "+x": "keyway_side_2"}))
     return difference(body, *tools) if tools else body
 
 

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ..csg import difference, union
-from ..families import Parameter, instance
+from ..families import Parameter, instance, label
 from ..primitives import cylinder
 from ..sweeps import circle, revolve
 from .common import count, define, fail, plane, pos, round_face, standard_instance
@@ -48,10 +48,10 @@ def _hole_centres(bolt_circle, n):
 
 def _flange(flange_diameter, bolt_circle, hole_diameter, bolt_holes, thickness, bore):
     c = (0.0, 0.0, thickness / 2)
-    disc = cylinder(flange_diameter / 2, thickness, center=c)
-    tools = [cylinder(bore / 2, 3 * thickness, center=c)]
-    tools += [cylinder(hole_diameter / 2, 3 * thickness, center=(x, y, thickness / 2))
-              for x, y in _hole_centres(bolt_circle, bolt_holes)]
+    disc = label(cylinder(flange_diameter / 2, thickness, center=c), "flange", {"wall": "rim"})
+    tools = [label(cylinder(bore / 2, 3 * thickness, center=c), "flange", {"wall": "bore"})]
+    tools += [label(cylinder(hole_diameter / 2, 3 * thickness, center=(x, y, thickness / 2)), f"hole_{i + 1}")
+              for i, (x, y) in enumerate(_hole_centres(bolt_circle, bolt_holes))]
     return difference(disc, *tools)
 
 
@@ -101,10 +101,13 @@ def _tee_check(outer_diameter, wall, run_length, branch_length):
 def _tee(outer_diameter, wall, run_length, branch_length):
     R, r = outer_diameter / 2, outer_diameter / 2 - wall
     x = (1.0, 0.0, 0.0)
-    outer = union(cylinder(R, run_length, axis=x),
-                  cylinder(R, branch_length, center=(0.0, 0.0, branch_length / 2)))
+    outer = union(label(cylinder(R, run_length, axis=x), "run", {"wall": "outside", "top": "end_2", "bottom": "end_1"}),
+                  label(cylinder(R, branch_length, center=(0.0, 0.0, branch_length / 2)), "branch",
+                        {"wall": "outside", "top": "end", "bottom": "root"}))
     # bores end exactly at the faces so the closed form holds; the run bore covers the branch's root
-    inner = union(cylinder(r, run_length, axis=x), cylinder(r, branch_length, center=(0.0, 0.0, branch_length / 2)))
+    inner = union(label(cylinder(r, run_length, axis=x), "run", {"wall": "bore", "top": "end_2", "bottom": "end_1"}),
+                  label(cylinder(r, branch_length, center=(0.0, 0.0, branch_length / 2)), "branch",
+                        {"wall": "bore", "top": "end", "bottom": "root"}))
     return difference(outer, inner)
 
 
@@ -148,7 +151,7 @@ def _bend_check(outer_diameter, wall, bend_radius, angle):
 def _bend(outer_diameter, wall, bend_radius, angle):
     R, r = outer_diameter / 2, outer_diameter / 2 - wall
     ring = circle(R, center=(bend_radius, 0.0)) - circle(r, center=(bend_radius, 0.0))
-    return revolve(ring, angle)
+    return label(revolve(ring, angle), "bend")
 
 
 def _bend_faces(outer_diameter, wall, bend_radius, angle):

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..families import label
 from ..sweeps import extrude, polygon
 from .common import define, fail, plane, pos, standard_instance
 from .tables import EN10055_TEES, EN10056_ANGLES, IPE_BEAMS, UPN_CHANNELS
@@ -71,7 +72,8 @@ def _faces_of(family_name):
 
 def _builder(family_name):
     def build(length, **p):
-        return extrude(polygon(section_outline(family_name, **p)), length)
+        return label(extrude(polygon(section_outline(family_name, **p)), length), "section",
+                     {"side": "outside", "top": "end_2", "bottom": "end_1"})
     return build
 
 

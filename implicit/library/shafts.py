@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 
 from ..csg import difference, union
-from ..families import Parameter, instance
+from ..families import Parameter, instance, label
 from ..primitives import box, cylinder
 from .common import define, fail, plane, pos, round_face
 from .gears import keyway_area
@@ -62,7 +62,10 @@ def _shaft(diameter, length, key_width, key_height, keyway_depth, keyway_length,
         slot = union(*pieces) if len(pieces) > 1 else pieces[0]
     else:
         slot = box((key_width, deep, keyway_length), center=(0.0, y0 + deep / 2, 0.0))
-    return difference(cylinder(r, length), slot)
+    slot = label(slot, "keyway", {"-y": "floor", "bottom": "floor", "+x": "side_2", "-x": "side_1", "+z": "end_2", "-z": "end_1",
+                                  "wall": "end"})
+    return difference(label(cylinder(r, length), "shaft", {"wall": "journal", "top": "end_2", "bottom": "end_1"}),
+                      slot)
 
 
 def _shaft_faces(diameter, length, key_width, key_height, keyway_depth, keyway_length, rounded_ends):
@@ -122,12 +125,17 @@ def _housing_check(bore, outer_radius, centre_height, width, base_length, base_h
 
 def _housing(bore, outer_radius, centre_height, width, base_length, base_height, hole_diameter, hole_spacing):
     x = (1.0, 0.0, 0.0)
-    base = box((width, base_length, base_height), center=(0.0, 0.0, base_height / 2))
-    riser = box((width, 2 * outer_radius, centre_height), center=(0.0, 0.0, centre_height / 2))
-    boss = cylinder(outer_radius, width, center=(0.0, 0.0, centre_height), axis=x)
-    tools = [cylinder(bore / 2, 3 * width, center=(0.0, 0.0, centre_height), axis=x)]
-    tools += [cylinder(hole_diameter / 2, 3 * base_height, center=(0.0, s * hole_spacing / 2, base_height / 2))
-              for s in (-1, 1)]
+    sides = {"+x": "side_2", "-x": "side_1"}
+    base = label(box((width, base_length, base_height), center=(0.0, 0.0, base_height / 2)), "housing",
+                 {**sides, "-z": "base_bottom", "+z": "base_top", "+y": "base_end_2", "-y": "base_end_1"})
+    riser = label(box((width, 2 * outer_radius, centre_height), center=(0.0, 0.0, centre_height / 2)), "housing",
+                  {**sides, "-z": "base_bottom", "+y": "riser_2", "-y": "riser_1", "+z": "riser_top"})
+    boss = label(cylinder(outer_radius, width, center=(0.0, 0.0, centre_height), axis=x), "housing",
+                 {"wall": "boss", "top": "side_2", "bottom": "side_1"})
+    tools = [label(cylinder(bore / 2, 3 * width, center=(0.0, 0.0, centre_height), axis=x), "housing",
+                   {"wall": "bore"})]
+    tools += [label(cylinder(hole_diameter / 2, 3 * base_height, center=(0.0, s * hole_spacing / 2, base_height / 2)),
+                    f"hole_{i + 1}") for i, s in enumerate((-1, 1))]
     return difference(union(base, riser, boss), *tools)
 
 

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ..families import instance
+from ..families import instance, label
 from ..solid import Solid, as_positive
 from .common import count, define, fail, pos, round_face
 
@@ -86,7 +86,7 @@ def _check(coil_diameter, wire_diameter, pitch, coils):
 
 
 def _spring(coil_diameter, wire_diameter, pitch, coils):
-    return HelicalCoil(coil_diameter / 2, pitch, coils, wire_diameter / 2)
+    return label(HelicalCoil(coil_diameter / 2, pitch, coils, wire_diameter / 2), "spring")
 
 
 def _faces(coil_diameter, wire_diameter, pitch, coils):

@@ -12,11 +12,80 @@ from __future__ import annotations
 
 import numpy as np
 
-from implicit.facets import FacetField, facet_field  # noqa: F401  (re-exported)
+from implicit.facets import FacetField as _TreeFacets
 from implicit.solid import Solid
 
 __all__ = ["FacetField", "facet_field", "face_names", "independent_facets", "project_to_surface", "solve_on_facets",
            "NEWTON_STEPS"]
+
+#: Nodes whose facets are those of their children (the others are leaves of `_TreeFacets`).
+_COMPOSITE = ("union", "intersection", "difference", "complement", "family", "offset", "affine")
+
+
+class FacetField(_TreeFacets):
+    """The facets of a CSG tree (`implicit.facets.FacetField`), named as the model names them.
+
+    A facet of a node that a part family labelled (`implicit.families.label`)
+    is called by that label (``hole_1.wall``, ``bracket.base_bottom``); the
+    others keep the names the tree gives them (``box_0.+x``,
+    ``cylinder_2.wall``: kind, leaf number in depth-first order, face).
+    Several facets may share a name (coplanar faces of one part): they make
+    one face set.
+
+    Examples
+    --------
+    >>> from implicit import box, cylinder
+    >>> from implicit.families import instance
+    >>> FacetField(box(2) - cylinder(0.5, 4)).names[-3:]
+    ['cylinder_1.wall', 'cylinder_1.top', 'cylinder_1.bottom']
+    >>> FacetField(instance("hole_plate", rows=1, cols=1)).names[-3:]
+    ['hole_1.wall', 'hole_1.top', 'hole_1.bottom']
+    """
+
+    def __init__(self, solid: Solid):
+        super().__init__(solid)
+        self.names = _labelled_names(self, solid, self.names)
+
+
+def facet_field(solid: Solid) -> FacetField:
+    """The `FacetField` of `solid` (see there)."""
+    return FacetField(solid)
+
+
+def _labelled_names(ff, solid, names):
+    """`names` with the facets of labelled nodes renamed by their (innermost) label."""
+    from implicit.families import FamilyInstance
+
+    labels = {}
+    for node in solid.walk():
+        if isinstance(node, FamilyInstance):
+            for labelled, name, faces in node.labels:
+                labels.setdefault(id(labelled), (name, faces))
+    if not labels:
+        return list(names)
+    out = list(names)
+    done = [False] * len(names)
+
+    def visit(node, start):
+        if node.kind in _COMPOSITE:
+            at = start
+            for child in node.children:
+                visit(child, at)
+                at += ff._n_facets(child)
+        lab = labels.get(id(node))
+        if lab is None:
+            return
+        name, faces = lab
+        for i in range(start, start + ff._n_facets(node)):
+            if not done[i]:
+                sub = names[i].split(".", 1)[1] if "." in names[i] else ""
+                face = faces.get(sub, sub)
+                out[i] = face if "." in face else f"{name}.{face}" if face else name
+                done[i] = True
+
+    visit(solid, 0)
+    return out
+
 
 #: Newton steps used to put a point back on the zero set.
 NEWTON_STEPS = 6
@@ -190,10 +259,10 @@ def face_names(solid: Solid, *, resolution: int = 48) -> list:
         raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
     ff = FacetField(solid)
     if not solid.is_bounded or solid.is_empty_bounds:
-        return list(ff.names)
+        return sorted(set(ff.names))
     surf = mesh(solid, resolution=resolution, progress=False)
     if surf.n_points == 0:
         return []
     p = project_to_surface(solid, np.asarray(surf.points, dtype=np.float64))
     _, dec, _ = ff(p)
-    return [ff.names[i] for i in np.unique(dec)]
+    return sorted({ff.names[i] for i in np.unique(dec)})

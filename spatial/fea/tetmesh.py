@@ -25,8 +25,9 @@ from contextlib import contextmanager
 import numpy as np
 
 from implicit.solid import Solid, as_positive
-from .surface import (FacetField, _deviation, _is_closed_manifold, mesh_faces, project_to_surface,
-                      self_intersections, surface_for_fea)
+from .facets import FacetField
+from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
+                      surface_for_fea)
 from .curved import add_midnodes, project_midnodes
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
 from .quality import radius_edge_ratio, tet_quality, tet_volumes
@@ -79,9 +80,10 @@ def _name_sets(ff, points, boundary, boundary_side, boundary_element, tets):
     node_sets = {}
     side_all = _side_nodes(tets, boundary_element, boundary_side)
     node_sets["surface"] = np.unique(side_all)
-    for k in np.unique(dec):
-        sel = np.nonzero(dec == k)[0]
-        name = ff.names[k]
+    # Facets sharing a name (coplanar faces a family named alike) make one set.
+    named = np.array(ff.names, dtype=object)[dec]
+    for name in sorted(set(named)):
+        sel = np.nonzero(named == name)[0]
         face_sets[name] = sel
         node_sets[name] = np.unique(side_all[sel])
     return face_sets, node_sets

@@ -130,3 +130,51 @@ def test_every_library_family_names_its_faces():
 def test_bad_parameters_are_refused_with_the_name(call, message):
     with pytest.raises((ValueError, TypeError), match=message):
         call()
+
+
+#: The faces each family names on its boundary (what `implicad info` lists and FEA face sets are called).
+FAMILY_FACES = {
+    "en1092_flange": {"flange.top", "flange.bottom", "flange.rim", "flange.bore", "hole_1.wall", "hole_4.wall"},
+    "l_bracket": {"bracket.base_bottom", "bracket.base_top", "bracket.upright_top", "bracket.back", "hole_1.wall",
+                  "hole_4.wall"},
+    "spur_gear": {"gear.front", "gear.back", "gear.teeth", "gear.bore"},
+    "hole_plate": {"plate.top", "plate.bottom", "hole_1.wall", "hole_6.wall"},
+    "iso4014_bolt": {"bolt.head_top", "bolt.bearing_face", "bolt.shank", "bolt.end"},
+    "bearing_housing": {"housing.bore", "housing.base_bottom", "hole_1.wall", "hole_2.wall"},
+}
+
+
+@pytest.mark.parametrize("name", sorted(FAMILY_FACES))
+def test_families_name_their_own_faces_and_the_names_survive_json(name):
+    from spatial.fea.facets import FacetField, face_names
+
+    part = instance(name)
+    names = face_names(part, resolution=40)
+    assert FAMILY_FACES[name] <= set(names), sorted(names)
+    assert not any(n.split(".")[0].rsplit("_", 1)[0] in ("box", "cylinder", "extrude") for n in names), names
+    back = from_json(to_json(part))
+    assert FacetField(back).names == FacetField(part).names
+
+
+def test_the_named_face_is_the_face_its_name_says():
+    from spatial.fea.facets import FacetField
+
+    part = instance("l_bracket", thickness=5.0)
+    ff = FacetField(part)
+    # points on the bottom of the base, the top of the base and the wall of the first hole
+    hole_x = 5.0 + (60.0 - 5.0) / 3.0
+    pts = np.array([[30.0, 5.0, 0.0], [30.0, 5.0, 5.0], [hole_x + 3.0, 20.0, 2.5]])
+    _, dec, _ = ff(pts)
+    assert [ff.names[i] for i in dec] == ["bracket.base_bottom", "bracket.base_top", "hole_1.wall"]
+
+
+def test_plain_primitives_keep_the_tree_names_and_label_needs_a_family():
+    from implicit import box, cylinder
+    from implicit.families import label
+    from spatial.fea.facets import FacetField
+
+    assert "cylinder_1.wall" in FacetField(box(2.0) - cylinder(0.5, 4.0)).names
+    with pytest.raises(ValueError, match="inside a family's builder"):
+        label(box(1.0), "plate")
+    with pytest.raises(ValueError, match="label"):
+        label(box(1.0), "a.b")
