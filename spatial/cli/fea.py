@@ -18,12 +18,13 @@ import os
 import sys
 
 NAME = "fea"
-HELP = "tetrahedral mesh, linear-static deck and CalculiX run (.inp .msh .vtu .bdf .stl .ply; --results .frd)"
+HELP = "tetrahedral mesh, linear-static deck and CalculiX run (.inp .msh .vtu .bdf .med .stl .ply; --results .frd)"
 DESCRIPTION = (
     "Mesh a model into tetrahedra for finite-element analysis: the boundary is remeshed to "
     "edge length SIZE, filled with TetGen and cleared of slivers; boundary regions are named "
     "by the CSG faces that make them (see 'implicad info'). The extension of --output picks "
     "the format: .inp (Abaqus/CalculiX), .msh (Gmsh 4.1 or 2.2), .vtu, .bdf/.nas (Nastran), "
+    ".med (Salome / Code_Aster: a group per face), "
     ".stl/.ply (boundary only). With --fix and --load the .inp is a ready-to-run linear-static "
     "deck (units of the built-in materials: mm, N, MPa, t/mm^3); --solve runs CalculiX (ccx). "
     "'implicad fea --results JOB.frd' reads CalculiX results."
@@ -107,7 +108,7 @@ def run(args) -> int:
     known = FacetField(solid).names
     for face in list(args.fix) + [f for f, _ in loads]:
         if face not in known:
-            raise CommandError(f"--fix/--load: no face named {face!r}; the model's faces are {', '.join(known)}")
+            raise CommandError(f"--fix/--load: no face named {face!r}; the model's faces are {', '.join(sorted(set(known)))}")
     with progress_bar(2, "fea", progress=args.progress, unit="step") as bar:
         bar.set_description("fea: tetrahedra")
         with warnings.catch_warnings(record=True) as caught:

@@ -11,6 +11,7 @@ format    node sets              face (element side) sets
 .inp      ``*NSET``              ``*ELSET`` per side + ``*SURFACE, TYPE=ELEMENT``
 .vtu      point data masks       ``region`` cell data, names in field data
 .bdf      ``SET1`` cards         (none: comments name the sets)
+.med      node families/groups   element families/groups (faces; ``volume``)
 .stl/.ply (none)                 (none: the boundary triangles only)
 ========  =====================  ==============================================
 """
@@ -33,6 +34,7 @@ FEA_FORMATS = {
     ".vtu": "VTK unstructured grid",
     ".bdf": "Nastran input (SOL 101, GRID*, CTETRA, PSOLID, MAT1, SET1 per face)",
     ".nas": "Nastran bulk data (as .bdf)",
+    ".med": "MED / HDF5 (Salome, Code_Aster): node and element groups per face, the elements in 'volume'",
     ".stl": "boundary triangles, STL",
     ".ply": "boundary triangles, PLY",
 }
@@ -75,6 +77,63 @@ def _write_gmsh(mesh, path, version):
                     point_data=point_data, field_data=field_data)
     fmt = "gmsh22" if version == "2.2" else "gmsh"
     _atomic_write(path, lambda tmp: meshio.write(tmp, m, file_format=fmt, binary=False))
+
+
+#: VTK / meshio corner and mid-edge order -> MED's (Salome's connectivity: corners 0 2 1 3,
+#: then the mid nodes of the edges 02, 21, 10, 03, 23, 13 of that order).
+_MED_ORDER = {4: [0, 2, 1, 3], 10: [0, 2, 1, 3, 6, 5, 4, 7, 9, 8]}
+
+
+def _write_med(mesh, path):
+    """MED 3.0 through meshio: each face set a group of boundary triangles (and of their
+    nodes), the elements the group ``volume``; entities take MED families (negative numbers
+    for elements, positive for nodes), one per combination of groups."""
+    import meshio
+
+    tri_type, tri = _boundary_cells(mesh)
+    region, names = _region_ids(mesh)
+    tets = np.asarray(mesh.tets)[:, _MED_ORDER[mesh.tets.shape[1]]]
+    cell_tags = {-1: ["volume"], -2: ["surface"]}
+    for i, k in enumerate(names):
+        cell_tags[-(i + 3)] = [set_name(k), "surface"]
+    tri_family = np.where(region > 0, -(region + 2), -2)
+    sets = list(mesh.node_sets)
+    member = np.zeros((len(mesh.points), len(sets)), dtype=bool)
+    for j, k in enumerate(sets):
+        member[np.asarray(mesh.node_sets[k]), j] = True
+    rows, family = np.unique(member, axis=0, return_inverse=True)
+    family = family.reshape(-1) + 1
+    point_tags = {}
+    for f, row in enumerate(rows, start=1):
+        groups = [set_name(sets[j]) for j in np.nonzero(row)[0]]
+        if groups:
+            point_tags[f] = groups
+        else:
+            family[family == f] = 0  # MED's family 0: no group
+    m = meshio.Mesh(np.asarray(mesh.points, dtype=np.float64), [(_cell_type(mesh), tets), (tri_type, tri)],
+                    point_data={"point_tags": family.astype(np.int64)},
+                    cell_data={"cell_tags": [np.full(len(tets), -1, dtype=np.int64), tri_family.astype(np.int64)]})
+    m.point_tags = point_tags
+    m.cell_tags = cell_tags
+    _atomic_write(path, lambda tmp: (meshio.write(tmp, m, file_format="med"), _short_family_names(tmp)))
+
+
+#: Longest MED family name (MED_NAME_SIZE).
+_MED_NAME_SIZE = 64
+
+
+def _short_family_names(path):
+    """Rename families whose name (meshio joins their groups into it) is over MED's 64 characters."""
+    import h5py
+
+    with h5py.File(path, "r+") as f:
+        for kind in ("NOEUD", "ELEME"):
+            where = f.get(f"FAS/mesh/{kind}")
+            if where is None:
+                continue
+            for name in list(where):
+                if len(name) > _MED_NAME_SIZE:
+                    where.move(name, f"FAM_{int(where[name].attrs['NUM'])}")
 
 
 def _write_inp(mesh, path):
@@ -132,7 +191,8 @@ def set_names(mesh, path) -> dict:
 
     ``.inp``: the node set (the surface is that name plus ``_F``); ``.bdf``:
     the SET1 number; ``.msh`` / ``.vtu``: the face name itself (a physical
-    group / field-data name); ``.stl`` / ``.ply`` carry no sets (empty).
+    group / field-data name); ``.med``: the group (of triangles and of nodes);
+    ``.stl`` / ``.ply`` carry no sets (empty).
 
     Examples
     --------
@@ -151,6 +211,8 @@ def set_names(mesh, path) -> dict:
         return {k: f"SET1 {v}" for k, v in nastran_set_ids(faces).items()}
     if ext in (".msh", ".vtu"):
         return {k: k for k in faces}
+    if ext == ".med":
+        return {k: f"group {set_name(k)}" for k in faces}
     return {}
 
 
@@ -203,6 +265,8 @@ def write_fea(mesh, path, *, format_version: str = "4.1", material=None) -> str:
         _write_vtu(mesh, path)
     elif ext in (".bdf", ".nas"):
         _write_bdf(mesh, path, material)
+    elif ext == ".med":
+        _write_med(mesh, path)
     else:
         _write_surface(mesh, path)
     return os.fspath(path)
