@@ -2,7 +2,7 @@
 
     implicad info examples/bracket_fillet.py
     implicad fea examples/bracket_fillet.py -o bracket.inp --size 2 --order 2 \\
-        --fix cylinder_3.wall --load cylinder_2.wall=0,0,-500 --solve
+        --fix hole_2.wall --load hole_1.wall=0,0,-500 --solve
 """
 
 from implicit import box, cylinder

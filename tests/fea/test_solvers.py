@@ -115,7 +115,7 @@ def test_filleted_bracket_meshes_and_solves(tmp_path):
     part = model["solid"]
     m = tet_mesh(part, size=3.0)
     assert m.info["volume_error"] < 0.005
-    fix, hole = "cylinder_3.wall", "cylinder_2.wall"
+    fix, hole = "hole_2.wall", "hole_1.wall"   # the family names the holes of its legs
     assert {fix, hole, "cylinder_5.wall"} <= set(m.face_sets)  # the fillet is a face of its own
     grid, res, _ = _solve(m, tmp_path, "bracket", [fix], [(hole, (0.0, 0.0, -500.0))])
     reaction = np.asarray(grid.point_data["FORC"])[m.node_sets[fix]].sum(axis=0)
