@@ -29,6 +29,7 @@ from .facets import FacetField
 from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
                       surface_for_fea)
 from .curved import add_midnodes, project_midnodes
+from .resolve import check_resolvable
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
 from .quality import radius_edge_ratio, tet_quality, tet_volumes
 from .slivers import boundary_faces, element_score, flip23, improve, peel
@@ -193,6 +194,9 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         raise ValueError(f"steiner_cap: expected a non-negative integer, got {steiner_cap!r}")
     if not solid.is_bounded or solid.is_empty_bounds:
         raise ValueError("solid: expected a bounded, non-empty solid")
+    if surface is None:
+        # A gap narrower than the size (between gear teeth) would be bridged: refuse before any work.
+        check_resolvable(solid, size)
 
     import tetgen
 
