@@ -8,7 +8,9 @@
 * `tet_quality`, `TetQuality` (`quality`): dihedral angles,
   radius-edge ratios, scaled Jacobians;
 * `write_fea`, `FEA_FORMATS`, `set_names` (`files`, over `abaqus` and
-  `nastran`): Gmsh 4.1 / 2.2, Abaqus / CalculiX, VTU, Nastran, STL / PLY;
+  `nastran`): Gmsh 4.1 / 2.2, Abaqus / CalculiX, VTU, Nastran, MED, STL / PLY;
+* `narrowest_gap`, `check_resolvable` (`resolve`): sizes that cannot follow a
+  part's narrowest gap, refused before meshing;
 * `write_static_deck`, `Material`, `MATERIALS`, `parse_material`,
   `parse_load` (`deck`): ready-to-run linear-static CalculiX / Abaqus decks;
 * `run_calculix`, `StaticResult` (`solve`) and `read_frd` (`frd`): CalculiX
@@ -32,6 +34,7 @@ from .deck import MATERIALS, Material, face_nodal_loads, parse_load, parse_mater
     write_static_deck
 from .frd import read_frd, von_mises
 from .solve import StaticResult, calculix_path, run_calculix
+from .resolve import check_resolvable, narrowest_gap
 
 __all__ = [
     "FacetField", "facet_field", "project_to_surface", "self_intersections", "surface_for_fea",
@@ -39,5 +42,5 @@ __all__ = [
     "radius_edge_ratio", "scaled_jacobian", "MeshQualityWarning", "TetMesh", "tet_mesh",
     "FEA_FORMATS", "set_names", "write_fea", "to_meshio", "MATERIALS", "Material", "face_nodal_loads", "parse_load", "static_deck_text",
     "parse_material", "write_static_deck", "read_frd", "von_mises", "StaticResult", "calculix_path",
-    "run_calculix",
+    "run_calculix", "check_resolvable", "narrowest_gap",
 ]
