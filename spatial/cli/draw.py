@@ -13,11 +13,15 @@ DESCRIPTION = (
     "hidden and centre lines, automatic dimensions, a title block and, with --section, SECTION A-A. "
     "An assembly file (defining `parts`) gives an isometric view with balloons and a parts list, its "
     "parts pulled apart with --explode; the parts list is also written as CSV beside the sheet. "
-    "The format follows the extension of -o: .svg, .pdf, .dxf or .png. Model units are millimetres."
+    "The format follows the extension of -o: .svg, .pdf, .dxf or .png. MODEL may also be a closed mesh "
+    "(.stl, .ply, .obj, .vtp): its holes and sizes are measured from sections and the mesh. The title block "
+    "states --units, else the units the model declares, else 'units of the model'."
 )
 
 
 def add_arguments(parser):
+    from ..analysis.mass_core import UNITS
+
     parser.add_argument("model", metavar="MODEL", help="a .py model file (defining `solid`, `model()` or `parts`) or a .json CSG tree")
     parser.add_argument("-o", "--output", required=True, help="sheet to write: .svg, .pdf, .dxf or .png")
     parser.add_argument("--projection", choices=("first", "third"), default="first",
@@ -34,6 +38,9 @@ def add_arguments(parser):
                         help="density for the parts list masses (default: the material's)")
     parser.add_argument("--resolution", type=int, default=None, metavar="N",
                         help="voxels across the longest side for the drawing mesh (default 160 for parts, 96 per assembly part)")
+    parser.add_argument("--units", default=None, choices=sorted(UNITS),
+                        help="length unit of the model (default: the units the model declares; "
+                             "else the sheet says 'units of the model')")
     parser.add_argument("--csv", default=None, metavar="FILE", help="where to write the parts list (default: beside the sheet)")
 
 
@@ -63,10 +70,8 @@ def run(args) -> int:
         if not os.path.isdir(folder):
             raise CommandError(f"--csv: no such directory {folder}")
 
-    from implicit.models import load_any
-
     started = time.perf_counter()
-    model = load_any(args.model)
+    model, units = _load(args)
     name = args.name or os.path.splitext(os.path.basename(args.model))[0]
     if isinstance(model, dict):
         from ..drafting.assembly_sheet import assembly_drawing
@@ -80,7 +85,7 @@ def run(args) -> int:
         drawing, rows = assembly_drawing(model, name=name, projection=args.projection, sheet=args.sheet or "A3",
                                          explode=args.explode or args.explode_axis is not None,
                                          axis=args.explode_axis, resolution=args.resolution or 96,
-                                         material=args.material, density=args.density)
+                                         material=args.material, density=args.density, units=units)
         write_drawing(drawing, args.output)
         csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
         write_csv(rows, csv_path)
@@ -92,9 +97,25 @@ def run(args) -> int:
     from ..drafting.part_sheet import part_drawing
 
     drawing = part_drawing(model, name=name, projection=args.projection, sheet=args.sheet or "A4",
-                           section=args.section, resolution=args.resolution or 160, material=args.material)
+                           section=args.section, resolution=args.resolution or 160, material=args.material,
+                           units=units)
     write_drawing(drawing, args.output)
     dims = sum(1 for g in drawing.walk() if g.cls == "dimension")
     print(f"{args.output}: {args.projection}-angle projection, scale {drawing.meta['scale']}, {dims} dimensions"
-          f"{', section A-A' if args.section else ''}; {time.perf_counter() - started:.1f} s")
+          f"{', section A-A' if args.section else ''}; units {drawing.meta['units']}; {time.perf_counter() - started:.1f} s")
     return 0
+
+
+def _load(args):
+    """The model (a solid or an assembly's parts) and its unit: ``--units``, else the declared one."""
+    from .common import is_mesh_file, load_solid
+
+    if is_mesh_file(args.model):
+        return load_solid(args.model), args.units
+    from implicit.models import load_any, load_model_units
+
+    model = load_any(args.model)
+    if args.units is not None or isinstance(model, dict):
+        return model, args.units
+    return model, load_model_units(args.model)[1]
+

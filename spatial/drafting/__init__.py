@@ -35,7 +35,9 @@ from .assembly_sheet import assembly_drawing  # noqa: F401
 from .parts_list import PartRow, parts_list, write_csv  # noqa: F401
 from .export import FORMATS, write_drawing  # noqa: F401
 from .results import draw_results  # noqa: F401
+from .measured import fit_circle, measured_holes  # noqa: F401
 
 __all__ = ["STYLES", "VIEWS", "render", "render_views", "render_cells", "feature_lines", "exploded_view",
            "explode_offsets", "SurfaceEdges", "surface_edges", "silhouettes", "Drawing", "part_drawing",
-           "assembly_drawing", "PartRow", "parts_list", "write_csv", "FORMATS", "write_drawing", "draw_results"]
+           "assembly_drawing", "PartRow", "parts_list", "write_csv", "FORMATS", "write_drawing", "draw_results",
+           "fit_circle", "measured_holes"]

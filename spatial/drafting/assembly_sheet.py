@@ -23,6 +23,7 @@ from .part_views import MIN_PIECE, part_mesh
 from .parts_list import MATERIALS, ROW, draw_parts_list, parts_list
 from .render import explode_offsets
 from .sheet import TITLE_BLOCK, drawing_area, new_sheet
+from .units import check_units, unit_label
 from .views import choose_scale, scale_text, view_frame
 from .visibility import DepthBuffer, classify_polylines
 
@@ -75,13 +76,14 @@ def _parse_axis(axis):
 
 def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "first", sheet: str = "A3",
                      explode: bool = True, axis=None, factor: float = 0.6, resolution: int = 96,
-                     material: str = "steel", density: float | None = None, date: str | None = None):
+                     material: str = "steel", density: float | None = None, date: str | None = None,
+                     units: str | None = None):
     """The exploded (or assembled) isometric view of `parts` with balloons and a parts list.
 
     Parameters
     ----------
     parts : dict of str to Solid
-        Named parts in assembly position (millimetres).
+        Named parts in assembly position, in `units`.
     explode : bool
         Pull the parts apart; otherwise they are drawn assembled.
     axis : {"x", "y", "z"} or (3,) float, optional
@@ -90,6 +92,8 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
         How far parts move, as a fraction of the assembly's size.
     material, density :
         For the masses of the parts list (kg/m^3; by default the named material's).
+    units : str, optional
+        The parts' length unit (`spatial.analysis.UNITS`); the masses assume mm without it.
 
     Returns
     -------
@@ -103,6 +107,7 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
         if not isinstance(solid, Solid):
             raise TypeError(f"parts[{key!r}]: expected an implicit Solid, got {type(solid).__name__}")
     check_options(projection, sheet, resolution)
+    check_units(units)
     if not np.isfinite(factor) or factor < 0:
         raise ValueError(f"factor: expected a non-negative number, got {factor!r}")
     if density is None:
@@ -115,7 +120,7 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
     from ..analysis.bom import bill_of_materials
 
     # The analysis room's bill of materials (its volume error is far below the three digits shown).
-    bom = bill_of_materials(parts, default_material=(material, float(density)), units="mm", resolution=64)
+    bom = bill_of_materials(parts, default_material=(material, float(density)), units=units or "mm", resolution=64)
     rows = parts_list(bom, parts)
     centroids = np.array([np.asarray(meshes[k].points).mean(axis=0) for k in parts])
     if not explode:
@@ -153,7 +158,8 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
 
     area = max(areas, key=scale_in)
     s = scale_in(area)
-    meta = {"title": name, "projection": projection, "material": material, "scale": scale_text(s)}
+    meta = {"title": name, "projection": projection, "material": material, "scale": scale_text(s),
+            "units": unit_label(units) if units else "mm (assumed for the masses)"}
     if date:
         meta["date"] = date
     drawing, _ = new_sheet(sheet, meta)

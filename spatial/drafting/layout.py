@@ -66,7 +66,7 @@ def _sizes(cells, scale):
     return total_w, total_h, left, top
 
 
-def place_grid(cells: dict, area, *, scale=None):
+def place_grid(cells: dict, area, *, scale=None, unit_mm: float = 1.0):
     """Scale and places of views in a grid.
 
     Parameters
@@ -76,7 +76,10 @@ def place_grid(cells: dict, area, *, scale=None):
     area : (x0, y0, x1, y1)
         Free sheet area (mm).
     scale : float, optional
-        A fixed scale; by default the largest standard one that fits.
+        A fixed scale (paper mm per model unit); by default the largest that fits
+        among the ISO 5455 ratios.
+    unit_mm : float
+        Millimetres in one model unit: the standard ratios are true sizes.
 
     Returns
     -------
@@ -89,7 +92,7 @@ def place_grid(cells: dict, area, *, scale=None):
         tw, th, _, _ = _sizes(cells, s)
         return tw.sum() <= aw and th.sum() <= ah
 
-    s = choose_scale(fits) if scale is None else float(scale)
+    s = choose_scale(lambda r: fits(r * unit_mm)) * unit_mm if scale is None else float(scale)
     tw, th, left, top = _sizes(cells, s)
     # The spare room is shared out evenly around and between columns and rows.
     gap_x = max(0.0, aw - tw.sum()) / (len(tw) + 1)

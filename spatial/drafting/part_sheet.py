@@ -21,6 +21,8 @@ from .layout import place_grid
 from .model import Drawing, Group
 from .part_views import ViewLines, exact_bounds, part_mesh, present_features, view_lines
 from .edges import surface_edges
+from .measured import is_measured, measured_holes, snap, step_for
+from .units import check_units, paper_per_unit, unit_label
 from .section_view import hatch_segments, plan_section, section_loops
 from .sheet import SHEETS, TITLE_BLOCK, drawing_area, new_sheet
 from .views import PROJECTIONS, grid, scale_text
@@ -95,13 +97,13 @@ def _margins(dims) -> tuple:
 
 def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet: str = "A4",
                  section: str | None = None, resolution: int = 160, material: str | None = None,
-                 date: str | None = None, scale: float | None = None) -> Drawing:
+                 date: str | None = None, scale: float | None = None, units: str | None = None) -> Drawing:
     """The drawing of one part.
 
     Parameters
     ----------
     solid : implicit.Solid
-        A bounded solid, in millimetres.
+        A bounded solid, in `units`.
     name : str
         Part name for the title block.
     projection : {"first", "third"}
@@ -114,6 +116,9 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
         Voxels across the part's longest side for the drawing mesh.
     scale : float, optional
         Paper mm per model unit; by default the largest standard scale that fits.
+    units : str, optional
+        The model's length unit (``"mm"``, ``"m"``...: `spatial.analysis.UNITS`), stated in the
+        title block and making the scale a true ratio; None draws in "units of the model".
 
     Returns
     -------
@@ -124,6 +129,7 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
     if not isinstance(solid, Solid):
         raise TypeError(f"solid: expected an implicit Solid, got {type(solid).__name__}")
     check_options(projection, sheet, resolution)
+    check_units(units)
     plan = plan_section(section, projection) if section is not None else None
     mesh = part_mesh(solid, resolution=resolution)
     if mesh.n_cells == 0:
@@ -131,7 +137,11 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
     edges = surface_edges(mesh, solid)
     h = edges.voxel_size
     bounds = exact_bounds(solid, mesh)
+    if is_measured(solid):
+        # Sizes measured on the mesh are drawn to the precision the mesh gives them.
+        bounds = tuple(snap(b, step_for(h)) for b in bounds)
     features = present_features(solid, h)
+    features = features + measured_holes(solid, bounds, h, known=features)
     views, loops = {}, None
     for view_name, _ in grid(projection):
         if plan is not None and view_name == plan.section_view:
@@ -151,8 +161,10 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
         if plan is not None and view_name in (plan.section_view, plan.line_view):
             margins = tuple(m + (8.0 if i >= 2 else 4.0) for i, m in enumerate(margins))
         cells[view_name] = (cell, tuple(views[view_name].extent), margins)
-    s, places = place_grid(cells, drawing_area(sheet), scale=scale)
-    meta = {"title": name, "projection": projection, "material": material or "-", "scale": scale_text(s)}
+    unit_mm = paper_per_unit(units)
+    s, places = place_grid(cells, drawing_area(sheet), scale=scale, unit_mm=unit_mm)
+    meta = {"title": name, "projection": projection, "material": material or "-", "scale": scale_text(s / unit_mm),
+            "units": unit_label(units)}
     if date:
         meta["date"] = date
     drawing, _ = new_sheet(sheet, meta)
@@ -162,7 +174,7 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
     placer = Placer(boxes + [tb])
     for view_name, view in views.items():
         place = places[view_name]
-        g = drawing.group(f"view-{view_name}", "view", name=view_name, scale=scale_text(s),
+        g = drawing.group(f"view-{view_name}", "view", name=view_name, scale=scale_text(s / unit_mm),
                           section="A-A" if plan is not None and view_name == plan.section_view else "")
         if plan is not None and view_name == plan.section_view:
             _hatch(g, loops, place)

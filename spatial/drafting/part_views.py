@@ -80,10 +80,15 @@ def part_mesh(solid, *, resolution: int = 160):
 
 
 def exact_bounds(solid, mesh) -> tuple[np.ndarray, np.ndarray]:
-    """The tree's bounds where the mesh confirms them (within two voxels), else the mesh's."""
+    """The tree's bounds where the mesh confirms them (within two voxels), else the mesh's
+    (always the mesh's for a mesh, a sweep or another field whose bounds the tree only pads)."""
+    from .measured import is_measured
+
     h = float(np.asarray(mesh.field_data["voxel_size"]).ravel()[0])
     pts = np.asarray(mesh.points)
     mlo, mhi = pts.min(axis=0), pts.max(axis=0)
+    if is_measured(solid):
+        return mlo, mhi
     tlo, thi = (np.asarray(b, dtype=float) for b in solid.bounds)
     lo = np.where(np.abs(tlo - mlo) <= 2 * h, tlo, mlo)
     hi = np.where(np.abs(thi - mhi) <= 2 * h, thi, mhi)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import datetime
 
+from .units import UNKNOWN
 from .model import Drawing, Group
 
 __all__ = ["SHEETS", "new_sheet", "drawing_area", "projection_symbol", "TITLE_BLOCK"]
@@ -76,7 +77,7 @@ def new_sheet(size: str, meta: dict) -> tuple[Drawing, tuple]:
         raise ValueError(f"sheet: expected one of {', '.join(SHEETS)}, got {size!r}")
     w, h = SHEETS[size]
     meta = dict(meta)
-    meta.setdefault("units", "mm")
+    meta.setdefault("units", UNKNOWN)
     meta.setdefault("tolerance", "ISO 2768-m")
     meta.setdefault("date", datetime.date.today().isoformat())
     meta.setdefault("sheet", "1/1")

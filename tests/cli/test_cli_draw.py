@@ -52,3 +52,14 @@ def test_bad_input_is_one_line_and_status_2(plate, tmp_path, capsys, monkeypatch
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["plate.py"]
+
+
+@pytest.mark.parametrize("declare, flag, label", [("", [], "units of the model"), ("units = 'mm'\n", [], "mm"),
+                                                   ("units = 'mm'\n", ["--units", "in"], "in")])
+def test_the_sheet_states_the_unit_the_model_declares_or_units_gives(tmp_path, capsys, declare, flag, label):
+    model = tmp_path / "blk.py"
+    model.write_text("from implicit import box\n" + declare + "solid = box((40, 20, 10))\n")
+    out = tmp_path / "blk.svg"
+    assert main(["draw", str(model), "-o", str(out), "--resolution", "24", *flag]) == 0
+    assert f"units {label};" in capsys.readouterr().out
+    assert ET.parse(out).getroot().find(".//s:g[@id='title-block']", NS).get("data-units") == label

@@ -62,7 +62,7 @@ def test_the_four_views_and_the_title_block_are_there(first):
     assert ids == {"view-front", "view-top", "view-side", "view-iso"}
     title = first.find(".//s:g[@id='title-block']", NS)
     assert title.get("data-projection") == "first" and title.get("data-tolerance") == "ISO 2768-m"
-    assert title.get("data-units") == "mm" and title.get("data-scale") == "2:1"
+    assert title.get("data-units") == "units of the model" and title.get("data-scale") == "2:1"
     texts = [t.text for t in title.iter(f"{{{NS['s']}}}text")]
     assert "block" in texts and "2:1" in texts and any("ISO 2768-m" in t for t in texts)
     assert title.find(".//s:g[@class='projection-symbol']", NS) is not None

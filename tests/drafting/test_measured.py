@@ -1,0 +1,117 @@
+"""Dimensions measured on the mesh and its sections where the tree knows no holes:
+circle fits, through holes of an STL plate, sizes, arcs, and the model's unit on the sheet."""
+
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from implicit import box, cylinder
+from spatial.drafting import part_drawing
+from spatial.drafting.measured import fit_arcs, fit_circle, step_for
+from spatial.drafting.svg import svg_text
+
+NS = {"s": "http://www.w3.org/2000/svg"}
+HOLES = [(-12.0, -4.0), (12.0, -4.0), (-12.0, 5.0), (12.0, 5.0)]
+
+
+def plate():
+    p = box((40, 20, 10))
+    for c in HOLES:
+        p = p - cylinder(4, 30, center=(*c, 0))
+    return p
+
+
+@pytest.fixture(scope="module")
+def stl_plate(tmp_path_factory):
+    """The plate written to STL and read back as a level set: no cylinder leaves left."""
+    import spatial
+    from spatial.cli.common import load_solid
+
+    path = tmp_path_factory.mktemp("stl") / "plate.stl"
+    spatial.mesh(plate(), resolution=80, progress=False).save(str(path))
+    return load_solid(str(path))
+
+
+@given(cx=st.floats(-50, 50), cy=st.floats(-50, 50), r=st.floats(0.1, 40), a0=st.floats(0, 6.28),
+       span=st.floats(0.5, 6.28))
+@settings(max_examples=40, deadline=None)
+def test_the_circle_fit_is_exact_on_points_of_a_circle_even_on_a_short_arc(cx, cy, r, a0, span):
+    t = a0 + np.linspace(0, span, 25)
+    c, radius, rms = fit_circle(np.column_stack([cx + r * np.cos(t), cy + r * np.sin(t)]))
+    assert np.allclose(c, (cx, cy), atol=1e-6 * max(r, 1)) and radius == pytest.approx(r, rel=1e-7)
+    assert rms < 1e-6 * r
+
+
+def test_the_circle_fit_is_the_geometric_least_squares_one():
+    # Noisy points: the fit's residuals are orthogonal to its three directions (a stationary point).
+    rng = np.random.default_rng(4)
+    t = rng.uniform(0, 2.0, 60)
+    p = np.column_stack([2 + 5 * np.cos(t), 1 + 5 * np.sin(t)]) + rng.normal(0, 0.05, (60, 2))
+    c, r, _ = fit_circle(p)
+    d = p - c
+    dist = np.linalg.norm(d, axis=1)
+    res = dist - r
+    assert abs(res.sum()) < 1e-9 and np.abs((res[:, None] * d / dist[:, None]).sum(axis=0)).max() < 1e-9
+
+
+def test_step_for_is_a_quarter_voxel_rounded_up_to_1_2_5():
+    assert [step_for(h) for h in (0.25, 0.3, 0.05, 4.0)] == [0.1, 0.1, 0.02, 1.0]
+
+
+def test_arcs_of_a_rounded_outline_are_found_with_their_radii():
+    # A 20 x 10 rectangle with corners of radius 3, counter-clockwise like a section contour.
+    pts = []
+    for k, centre in enumerate(((7, 2), (-7, 2), (-7, -2), (7, -2))):
+        t = np.radians(90 * k) + np.linspace(0, np.pi / 2, 40)
+        arc = np.asarray(centre) + 3 * np.column_stack([np.cos(t), np.sin(t)])
+        nxt = ((-7, 2), (-7, -2), (7, -2), (7, 2))[k]
+        t_next = np.radians(90 * (k + 1))
+        start_next = np.asarray(nxt) + 3 * np.array([np.cos(t_next), np.sin(t_next)])
+        pts += [arc, np.linspace(arc[-1], start_next, 30)[1:-1]]
+    arcs = fit_arcs(np.concatenate(pts), 0.2)
+    assert len(arcs) == 4
+    assert [round(a[2], 6) for a in arcs] == [3.0] * 4 and not any(a[4] for a in arcs)
+    assert sorted(np.round(a[0], 6).tolist() for a in arcs) == [[-7, -2], [-7, 2], [7, -2], [7, 2]]
+
+
+@pytest.fixture(scope="module")
+def stl_sheet(stl_plate):
+    return ET.fromstring(svg_text(part_drawing(stl_plate, name="plate", resolution=80)))
+
+
+def _dims(root, view):
+    return root.find(f".//s:g[@id='view-{view}']", NS).findall(".//s:g[@class='dimension']", NS)
+
+
+def test_an_stl_plate_gets_the_hole_callout_and_positions_from_its_sections(stl_sheet):
+    holes = [d for d in _dims(stl_sheet, "top") if d.get("data-kind") == "hole"]
+    assert [(h.get("data-text"), h.get("data-count"), h.get("data-value")) for h in holes] == [("4x ⌀8", "4", "8")]
+    pos = sorted(float(d.get("data-value")) for d in _dims(stl_sheet, "top") if d.get("data-kind") == "position")
+    assert pos == [6.0, 8.0, 15.0, 32.0]
+    overall = sorted(float(d.get("data-value")) for d in _dims(stl_sheet, "front") if d.get("data-kind") == "overall")
+    assert overall == [10.0, 40.0]
+    # Holes are seen end-on from above only, and get centre crosses there.
+    assert not [d for d in _dims(stl_sheet, "front") if d.get("data-kind") == "hole"]
+
+
+def test_the_tree_s_holes_are_not_called_out_twice():
+    root = ET.fromstring(svg_text(part_drawing(plate(), name="plate", resolution=48)))
+    holes = [d for d in _dims(root, "top") if d.get("data-kind") == "hole"]
+    assert [h.get("data-text") for h in holes] == ["4x ⌀8"]
+
+
+@pytest.mark.parametrize("units, label, scale", [(None, "units of the model", "2:1"), ("mm", "mm", "2:1"),
+                                                 ("cm", "cm", "1:5"), ("m", "m", "1:500")])
+def test_the_title_block_states_the_model_unit_and_the_scale_is_true(units, label, scale):
+    d = part_drawing(box((40, 20, 10)), name="b", resolution=24, units=units)
+    root = ET.fromstring(svg_text(d))
+    title = root.find(".//s:g[@id='title-block']", NS)
+    assert title.get("data-units") == label and title.get("data-scale") == scale
+    assert any(t.text == f"Dimensions in {label}; general tolerances ISO 2768-m" for t in title.iter(f"{{{NS['s']}}}text"))
+
+
+def test_an_unknown_unit_is_refused_before_any_work():
+    with pytest.raises(ValueError, match="units: expected one of"):
+        part_drawing(box(1.0), units="furlong")
