@@ -6,7 +6,13 @@
   lower-left corner), ``u`` below and ``v`` on the left;
 * bosses (material-adding cylinders) seen end-on: ``⌀D``;
 * the front view: edge radii of rounded boxes (``R3``) and spherical
-  outlines (``SR10``) where they are on the part's boundary.
+  outlines (``SR10``) where they are on the part's boundary;
+* fillets and rounds (cylinders on the boundary only part of the way
+  round) seen end-on: ``R5`` at the arc's middle; tori seen from the side:
+  the tube radius ``R2`` (both from the tree; arcs measured on sections of
+  parts the tree cannot size come in as `arcs`);
+* holes whose axis lies along no view direction: in the view nearest their
+  axis, ``⌀6, axis 30° from z`` at the centre (ISO 129-1 states the angle).
 
 Examples
 --------
@@ -42,14 +48,16 @@ def _distinct(values, tol=1e-6):
     return values[keep]
 
 
-def view_dimensions(name, frame, extent, features, solid, h) -> list:
-    """Dimensions of one view (view coordinates, model units)."""
+def view_dimensions(name, frame, extent, features, solid, h, arcs=()) -> list:
+    """Dimensions of one view (view coordinates, model units).
+
+    `arcs` are measured arcs (`measured.Arc`) whose axis is this view's direction."""
     if name == "iso":
         return []
     umin, vmin, umax, vmax = (float(x) for x in extent)
     d = np.asarray(frame)[2]
     out = []
-    end_on = [f for f in features if f.kind == "cylinder" and abs(float(f.axis @ d)) > 1 - 1e-9]
+    end_on = [f for f in features if f.kind == "cylinder" and not f.arc and abs(float(f.axis @ d)) > 1 - 1e-9]
     holes = [f for f in end_on if f.negative]
     bosses = [f for f in end_on if not f.negative]
     for group, sign in ((holes, True), (bosses, False)):
@@ -60,7 +68,9 @@ def view_dimensions(name, frame, extent, features, solid, h) -> list:
             centres = np.array([np.asarray(frame)[:2] @ f.centre for f in fs])
             centres = np.unique(np.round(centres, 6), axis=0)
             pick = centres[np.argmax(centres[:, 0] + centres[:, 1])]
-            anchor = pick + dia / 2 * np.array([_C45, _C45])
+            # Bosses are met at 20 degrees, holes at 45: a hole's leader in a boss then runs beside the
+            # boss's instead of along it.
+            anchor = pick + dia / 2 * (np.array([_C45, _C45]) if sign else np.array([0.9397, 0.3420]))
             n = len(centres)
             text = (f"{n}x " if n > 1 else "") + DIAMETER + format_value(dia)
             out.append(Note(tuple(anchor), text, dia, kind="hole" if sign else "diameter", count=n,
@@ -77,6 +87,61 @@ def view_dimensions(name, frame, extent, features, solid, h) -> list:
     out.append(Linear((umax, vmin), (umax, vmax), "v", "right", vmax - vmin, kind="overall"))
     if name == "front":
         out.extend(_radii(frame, extent, solid, h))
+    out.extend(_arc_radii(frame, features, arcs))
+    out.extend(_oblique(frame, features))
+    return out
+
+
+_AXIS_NAMES = "xyz"
+
+
+def _arc_radii(frame, features, arcs) -> list:
+    frame = np.asarray(frame)
+    d = frame[2]
+    out, seen = [], set()
+    for f in features:
+        along = abs(float(f.axis @ d))
+        if f.arc and along > 1 - 1e-9 and f.mid is not None:
+            r, mid = f.diameter / 2, frame[:2] @ f.mid
+        elif f.kind == "torus" and along < 1e-9:
+            # The tube's outline seen from the side, half way up its outer arc.
+            side = frame[:2] @ np.cross(f.axis, d)
+            side = side / max(np.linalg.norm(side), 1e-12)
+            a2 = frame[:2] @ f.axis
+            r = f.length / 2
+            mid = frame[:2] @ f.centre + (f.diameter / 2 + r * _C45) * side + r * _C45 * a2
+        else:
+            continue
+        key = round(r, 6)
+        if key not in seen:
+            seen.add(key)
+            out.append(Note(tuple(mid), f"R{format_value(r)}", r, kind="radius"))
+    for a in arcs:
+        key = round(a.radius, 6)
+        if key not in seen:
+            seen.add(key)
+            out.append(Note(tuple(frame[:2] @ a.mid), f"R{format_value(a.radius)}", a.radius, kind="radius"))
+    return out
+
+
+def _oblique(frame, features) -> list:
+    """Callouts of holes along no view direction, in the view nearest their axis."""
+    frame = np.asarray(frame)
+    d = frame[2]
+    out, seen = [], set()
+    for f in features:
+        if f.kind != "cylinder" or f.arc or not f.negative:
+            continue
+        cos = np.abs(f.axis)
+        if cos.max() > 1 - 1e-9 or int(np.argmax(cos)) != int(np.argmax(np.abs(d))):
+            continue
+        angle = float(np.degrees(np.arccos(min(1.0, cos.max()))))
+        text = f"{DIAMETER}{format_value(f.diameter)}, axis {format_value(angle)}\u00b0 from {_AXIS_NAMES[int(np.argmax(cos))]}"
+        key = (text, tuple(np.round(frame[:2] @ f.centre, 6)))
+        if key in seen:
+            continue
+        seen.add(key)
+        out.append(Note(tuple(frame[:2] @ f.centre), text, f.diameter, kind="oblique-hole", centre=tuple(frame[:2] @ f.centre)))
     return out
 
 

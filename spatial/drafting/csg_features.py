@@ -99,6 +99,11 @@ class AxialFeature:
         Axial extent measured from `centre` along `axis`.
     negative : bool
         True when the feature removes material (a hole).
+    arc : bool
+        Only part of the way round is on the part's boundary: a fillet or a
+        round (radius callout), not a hole or a boss.
+    mid : (3,) float, optional
+        A point of the wall in the middle of the part that is on the boundary.
     """
 
     kind: str
@@ -109,6 +114,8 @@ class AxialFeature:
     start: float
     stop: float
     negative: bool
+    arc: bool = False
+    mid: np.ndarray | None = None
 
 
 def _scale_along(leaf: Leaf, axis_local) -> tuple[np.ndarray, float]:

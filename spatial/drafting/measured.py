@@ -167,14 +167,30 @@ def fit_arcs(loop, h: float, *, min_turn: float = np.radians(30.0)):
     return out
 
 
-def _sections(solid, lo, hi, axis, resolution):
+def _cut_levels(lo, hi, axis, mesh, h):
+    """Where to cut across `axis`: fixed fractions of the extent, and half way between the
+    levels of the mesh's faces square to the axis (a thin leg of a bracket is cut through its middle)."""
+    levels = list(lo[axis] + np.asarray(CUTS) * (hi[axis] - lo[axis]))
+    if mesh is not None and mesh.n_cells:
+        tri = mesh.compute_normals(cell_normals=True, point_normals=False)
+        n = np.asarray(tri.cell_data["Normals"])
+        centres = np.asarray(tri.cell_centers().points)
+        flat = np.abs(n[:, axis]) > 0.999
+        z = np.unique(np.round(centres[flat, axis] / h))
+        z = z[np.concatenate([[True], np.diff(z) > 2])] * h
+        mids = 0.5 * (z[1:] + z[:-1])
+        levels += [m for m in mids if m - (z[z < m].max()) > 1.5 * h]
+    return sorted(levels)
+
+
+def _sections(solid, lo, hi, axis, resolution, mesh=None, h=1.0):
     from ..analysis.section import section
 
     normal = np.eye(3)[axis]
     out = []
-    for f in CUTS:
+    for level in _cut_levels(lo, hi, axis, mesh, h):
         point = 0.5 * (lo + hi)
-        point[axis] = lo[axis] + f * (hi[axis] - lo[axis])
+        point[axis] = level
         try:
             s = section(solid, (point, normal), resolution=resolution)
         except Exception:  # noqa: BLE001 - a plane the sampler cannot handle gives nothing
@@ -184,7 +200,7 @@ def _sections(solid, lo, hi, axis, resolution):
     return out
 
 
-def measured_holes(solid, bounds, h: float, *, known=(), resolution: int = 256) -> list[AxialFeature]:
+def measured_holes(solid, bounds, h: float, *, known=(), resolution: int = 256, mesh=None) -> list[AxialFeature]:
     """Through holes along x, y and z found in sections of `solid`, as cylinders.
 
     Parameters
@@ -198,6 +214,8 @@ def measured_holes(solid, bounds, h: float, *, known=(), resolution: int = 256) 
         The tree's features: holes they already give are not repeated.
     resolution : int
         Samples across each section.
+    mesh : pyvista.PolyData, optional
+        The part's mesh: its faces square to an axis add cuts between them.
 
     Returns
     -------
@@ -209,7 +227,7 @@ def measured_holes(solid, bounds, h: float, *, known=(), resolution: int = 256) 
     out = []
     for axis in range(3):
         circles = []   # (centre3, radius)
-        for sec in _sections(solid, lo, hi, axis, resolution):
+        for sec in _sections(solid, lo, hi, axis, resolution, mesh, h):
             for loop, loop3, hole in zip(sec.loops, sec.loops3d, sec.holes):
                 if not hole or len(loop) < 8:
                     continue
@@ -241,9 +259,26 @@ def measured_holes(solid, bounds, h: float, *, known=(), resolution: int = 256) 
             direction = np.eye(3)[axis]
             if any(_same_hole(f, centre, direction, diameter, h) for f in known):
                 continue
-            length = float(hi[axis] - lo[axis])
-            out.append(AxialFeature("cylinder", centre, direction, diameter, length, -length / 2, length / 2, True))
+            start, stop = _wall_span(solid, centre, axis, diameter / 2, lo, hi, h)
+            out.append(AxialFeature("cylinder", centre, direction, diameter, stop - start, start, stop, True))
     return out
+
+
+def _wall_span(solid, centre, axis, r, lo, hi, h):
+    """From `centre` along `axis`, the stretch where material rings the hole (its wall)."""
+    t = np.linspace(lo[axis], hi[axis], 97)
+    e = np.eye(3)[[(axis + 1) % 3, (axis + 2) % 3]]
+    ang = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    ring = (r + 1.5 * h) * (np.cos(ang)[:, None] * e[0] + np.sin(ang)[:, None] * e[1])
+    pts = np.repeat(centre[None], len(t), axis=0)
+    pts[:, axis] = t
+    probe = (pts[:, None, :] + ring[None]).reshape(-1, 3)
+    wall = (np.asarray(solid(probe)) < 0).reshape(len(t), len(ang)).any(axis=1)
+    if not wall.any():
+        return -0.5 * (hi[axis] - lo[axis]), 0.5 * (hi[axis] - lo[axis])
+    k = np.flatnonzero(wall)
+    mid = centre[axis]
+    return float(t[k[0]] - mid), float(t[k[-1]] - mid)
 
 
 def _open_along(solid, centre, axis, lo, hi, h) -> bool:
@@ -274,6 +309,8 @@ def section_arcs(solid, bounds, h: float, *, axis: int, resolution: int = 256) -
         if hole:
             continue
         for c, mid, r, turn, concave in fit_arcs(loop, sec.voxel_size):
+            if r < 4 * h:
+                continue  # a corner the mesh rounded, not an arc of the part
             c3 = sec.point + c[0] * sec.frame[0] + c[1] * sec.frame[1]
             m3 = sec.point + mid[0] * sec.frame[0] + mid[1] * sec.frame[1]
             out.append(Arc(c3, m3, r, turn, concave))

@@ -21,7 +21,7 @@ from .layout import place_grid
 from .model import Drawing, Group
 from .part_views import ViewLines, exact_bounds, part_mesh, present_features, view_lines
 from .edges import surface_edges
-from .measured import is_measured, measured_holes, snap, step_for
+from .measured import is_measured, measured_holes, section_arcs, snap, step_for
 from .units import check_units, paper_per_unit, unit_label
 from .section_view import hatch_segments, plan_section, section_loops
 from .sheet import SHEETS, TITLE_BLOCK, drawing_area, new_sheet
@@ -141,7 +141,7 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
         # Sizes measured on the mesh are drawn to the precision the mesh gives them.
         bounds = tuple(snap(b, step_for(h)) for b in bounds)
     features = present_features(solid, h)
-    features = features + measured_holes(solid, bounds, h, known=features)
+    features = features + measured_holes(solid, bounds, h, known=features, mesh=mesh)
     views, loops = {}, None
     for view_name, _ in grid(projection):
         if plan is not None and view_name == plan.section_view:
@@ -154,7 +154,15 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
         else:
             views[view_name] = view_lines(solid, mesh, edges, view_name, projection=projection,
                                           hidden=view_name != "iso", features=features, bounds=bounds)
-    dims = {v: view_dimensions(v, views[v].frame, views[v].extent, views[v].features, solid, h) for v in views}
+    arcs = {}
+    if is_measured(solid):
+        # Radii the tree cannot give: arcs of the middle section across each view direction.
+        for v in views:
+            if v != "iso":
+                arcs[v] = [_snapped_arc(a, step_for(h)) for a in
+                           section_arcs(solid, bounds, h, axis=int(np.argmax(np.abs(views[v].frame[2]))))]
+    dims = {v: view_dimensions(v, views[v].frame, views[v].extent, views[v].features, solid, h, arcs.get(v, ()))
+            for v in views}
     cells = {}
     for view_name, cell in grid(projection):
         margins = _margins(dims[view_name])
@@ -191,6 +199,12 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
             g.text(0.5 * (x0 + x1), below + 7.0, "SECTION A-A", size=5.0, cls="view-label", bold=True)
             placer.boxes.append(g.items[-1].box())
     return drawing
+
+
+def _snapped_arc(arc, step):
+    from dataclasses import replace
+
+    return replace(arc, radius=float(snap(arc.radius, step)))
 
 
 def _hatch(group: Group, loops, place):

@@ -96,7 +96,10 @@ def exact_bounds(solid, mesh) -> tuple[np.ndarray, np.ndarray]:
 
 
 def present_features(solid, h: float) -> list[AxialFeature]:
-    """The axial features whose surface is really part of the boundary of `solid`."""
+    """The axial features whose surface is really part of the boundary of `solid`;
+    those on the boundary only part of the way round come back as arcs (``arc=True``)."""
+    from dataclasses import replace
+
     out = []
     lo, hi = (np.asarray(b, dtype=float) for b in solid.bounds)
     for f in axial_features(solid):
@@ -106,23 +109,42 @@ def present_features(solid, h: float) -> list[AxialFeature]:
         s0, s1 = _axial_clip(f, lo, hi)
         if s1 <= s0:
             continue
-        theta = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+        theta = np.linspace(0, 2 * np.pi, 48, endpoint=False)
         t = np.linspace(s0, s1, 34)[1:-1]
         radius = f.diameter / 2 if f.kind != "torus" else f.diameter / 2 + f.length / 2
         ring = radius * (np.cos(theta)[:, None] * e[0] + np.sin(theta)[:, None] * e[1])
         pts = (f.centre + t[:, None, None] * f.axis + ring[None]).reshape(-1, 3)
-        on = np.abs(solid(pts)) < 2.0 * h
+        on = (np.abs(solid(pts)) < 2.0 * h).reshape(len(t), len(theta))
         # A bolt hole through a flange is wall over a short stretch of its axis only.
-        if on.sum() >= 2 * len(theta):
-            out.append(f)
+        if on.sum() < 2 * len(theta):
+            continue
+        around = on.any(axis=0)
+        if f.kind == "cylinder" and around.mean() < 0.9:
+            # A quarter round in a corner: the middle of the longest run of angles on the boundary.
+            k = np.flatnonzero(around)
+            start = int(np.flatnonzero(~around)[0])
+            rolled = np.roll(around, -start)
+            idx = np.flatnonzero(rolled)
+            mid_angle = theta[(start + int(np.median(idx))) % len(theta)]
+            row = int(np.argmax(on[:, k].sum(axis=1)))
+            mid = f.centre + t[row] * f.axis + radius * (np.cos(mid_angle) * e[0] + np.sin(mid_angle) * e[1])
+            f = replace(f, arc=True, mid=mid)
+        out.append(f)
     return out
 
 
 def _axial_clip(f: AxialFeature, lo, hi):
-    """The feature's axial extent cut to the part's bounding box."""
-    corners = np.array(np.meshgrid(*zip(lo, hi), indexing="ij")).reshape(3, -1).T
-    proj = (corners - f.centre) @ f.axis
-    return max(f.start, float(proj.min())), min(f.stop, float(proj.max()))
+    """The feature's axial extent cut to the part's bounding box (where its axis line is inside it)."""
+    a = np.asarray(f.axis, dtype=float)
+    c = np.asarray(f.centre, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0, t1 = (lo - c) / a, (hi - c) / a
+    parallel = np.abs(a) < 1e-12
+    inside = (c >= lo) & (c <= hi)
+    if np.any(parallel & ~inside):
+        return 0.0, -1.0
+    t0, t1 = np.where(parallel, -np.inf, np.minimum(t0, t1)), np.where(parallel, np.inf, np.maximum(t0, t1))
+    return max(f.start, float(t0.max())), min(f.stop, float(t1.min()))
 
 
 def view_lines(solid, mesh, edges: SurfaceEdges, name: str, *, projection: str = "first",
@@ -168,6 +190,8 @@ def _centre_lines(view: ViewLines, feats, lo, hi):
     seen_axes, seen_centres = set(), set()
     d = view.frame[2]
     for f in feats:
+        if f.arc:
+            continue
         along = abs(float(f.axis @ d))
         c2 = view.frame[:2] @ f.centre
         if along > 1 - 1e-9:
@@ -175,7 +199,8 @@ def _centre_lines(view: ViewLines, feats, lo, hi):
             if key not in seen_centres:
                 seen_centres.add(key)
                 view.centres.append((c2, f.diameter / 2))
-        elif along < 1e-9:
+        else:
+            # In the plane or oblique: the axis seen from the side, over the part.
             s0, s1 = _axial_clip(f, lo, hi)
             a = view.frame[:2] @ (f.centre + s0 * f.axis)
             b = view.frame[:2] @ (f.centre + s1 * f.axis)

@@ -115,3 +115,56 @@ def test_the_title_block_states_the_model_unit_and_the_scale_is_true(units, labe
 def test_an_unknown_unit_is_refused_before_any_work():
     with pytest.raises(ValueError, match="units: expected one of"):
         part_drawing(box(1.0), units="furlong")
+
+
+def _notes(sheet, kind):
+    out = []
+    for g in sheet.walk():
+        if g.cls == "dimension" and g.data.get("kind") == kind:
+            out.append(g)
+    return out
+
+
+def _view_of(sheet, note):
+    for v in sheet.walk():
+        if v.cls == "view" and any(g is note for g in v.walk()):
+            return v.data["name"]
+
+
+def test_a_fillet_in_a_corner_is_a_radius_not_a_hole():
+    from implicit.models import load_model
+
+    sheet = part_drawing(load_model("examples/bracket_fillet.py"), name="b", resolution=64)
+    radii = [(_view_of(sheet, g), g.data["text"]) for g in _notes(sheet, "radius")]
+    # The fillet (a cylinder of radius 5 subtracted from a corner square) is seen end-on from the front.
+    assert radii == [("front", "R5")]
+    holes = sorted(g.data["text"] for g in _notes(sheet, "hole"))
+    assert holes == ["⌀6", "⌀6"]
+
+
+def test_a_torus_gets_its_tube_radius_where_it_is_seen_from_the_side():
+    from implicit import torus
+
+    sheet = part_drawing((cylinder(10, 6) | torus(10, 3)) - cylinder(4, 20), name="w", resolution=48)
+    radii = sorted((_view_of(sheet, g), g.data["text"]) for g in _notes(sheet, "radius"))
+    assert radii == [("front", "R3"), ("side", "R3")]
+
+
+def test_measured_arcs_give_the_radius_of_a_fillet_the_tree_does_not_know(tmp_path):
+    import spatial
+    from spatial.cells import mesh_to_solid
+    from implicit.models import load_model
+
+    m = spatial.mesh(load_model("examples/bracket_fillet.py"), resolution=96, progress=False)
+    part = mesh_to_solid(m, 50 / 100)
+    sheet = part_drawing(part, name="b", resolution=96)
+    front = [float(g.data["value"]) for g in _notes(sheet, "radius") if _view_of(sheet, g) == "front"]
+    assert any(abs(r - 5.0) <= 0.3 for r in front), front
+
+
+def test_an_oblique_hole_gets_its_diameter_and_axis_angle_in_the_view_nearest_its_axis():
+    part = box((40, 20, 10)) - cylinder(3, 40).rotate(30, (0, 1, 0))
+    sheet = part_drawing(part, name="o", resolution=48)
+    notes = [(_view_of(sheet, g), g.data["text"]) for g in _notes(sheet, "oblique-hole")]
+    assert notes == [("top", "⌀6, axis 30° from z")]
+    assert not _notes(sheet, "hole")
