@@ -208,9 +208,19 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
         pair = tris.ravel() * len(leaf_list) + np.repeat(label, 3)
         keys, inv = np.unique(pair, return_inverse=True)
         fv, gv = leaf_gradients(leaf_list, keys % len(leaf_list), points[keys // len(leaf_list)], GRADIENT_STEP * h)
-        corner_normals = gv[inv.ravel()].reshape(-1, 3, 3) * sign[:, None, None]
+        gv = gv[inv.ravel()]
+        fv = fv[inv.ravel()]
+        if "feature_rank" in mesh.point_data:
+            # A feature mesh puts vertices on the edges, where a leaf's gradient is that of either
+            # face: there each corner takes it a little way into its own triangle.
+            sharp = np.flatnonzero(np.asarray(mesh.point_data["feature_rank"])[tris.ravel()] > 0)
+            at = points[tris.ravel()[sharp]]
+            at = at + 0.02 * (np.repeat(centroids, 3, axis=0)[sharp] - at)
+            fs, gs = leaf_gradients(leaf_list, np.repeat(label, 3)[sharp], at, GRADIENT_STEP * h)
+            gv[sharp], fv[sharp] = gs, fs
+        corner_normals = gv.reshape(-1, 3, 3) * sign[:, None, None]
         # A triangle whose corners are not all on its leaf's surface straddles two leaves.
-        on_leaf = (np.abs(fv[inv.ravel()]) < 0.02 * h).reshape(-1, 3).all(axis=1)
+        on_leaf = (np.abs(fv) < 0.02 * h).reshape(-1, 3).all(axis=1)
     else:
         nrm = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         c_normals = nrm / np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-300)
@@ -218,21 +228,68 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
         corner_normals = np.repeat(c_normals[:, None, :], 3, axis=1)
         on_leaf = np.ones(len(tris), dtype=bool)
     edges, pairs = _edge_pairs(tris)
-    inner = pairs[:, 1] >= 0
-    cos = np.full(len(edges), -1.0)
-    cos[inner] = np.einsum("ij,ij->i", c_normals[pairs[inner, 0]], c_normals[pairs[inner, 1]])
-    feature = cos < np.cos(np.radians(feature_angle))
-    snapped = _snap(points, tris, edges, c_points, c_normals, feature) \
-        if solid is not None and feature.any() else points
-    polylines = strip_segments(snapped, edges[feature])
-    if marched:
-        # Only marching cubes leaves its voxel-sized links at corners.
-        polylines = join_corners(polylines, h)
+    polylines = _sharp_curves(mesh, points, tris, edges, pairs, feature_angle) if solid is not None else None
+    if polylines is None:
+        inner = pairs[:, 1] >= 0
+        cos = np.full(len(edges), -1.0)
+        cos[inner] = np.einsum("ij,ij->i", c_normals[pairs[inner, 0]], c_normals[pairs[inner, 1]])
+        feature = cos < np.cos(np.radians(feature_angle))
+        snapped = _snap(points, tris, edges, c_points, c_normals, feature) \
+            if solid is not None and feature.any() else points
+        polylines = strip_segments(snapped, edges[feature])
+        if marched:
+            # Only marching cubes leaves its voxel-sized links at corners.
+            polylines = join_corners(polylines, h)
     spread = np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 1])
     spread = np.minimum(spread, np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 2]))
     # Chamfer triangles across a sharp edge have corners on two faces: not a curved face.
     curved = (spread < np.cos(_FLAT)) & (spread > np.cos(np.radians(_CURVED_MAX))) & on_leaf
     return SurfaceEdges(polylines, points, tris, corner_normals, curved, h)
+
+
+def _sharp_curves(mesh, points, tris, edges, pairs, feature_angle):
+    """The meshing room's sharp feature curves (`spatial.meshing.feature_edges`) of a mesh made
+    with ``features=True``, less the tangent ones (faces meeting within `feature_angle`);
+    None when the mesh has none (a mesh or field with no CSG faces)."""
+    if "feature_rank" not in mesh.point_data:
+        return None
+    from ..meshing import feature_edges
+
+    curves = feature_edges(mesh)
+    if not curves.polylines:
+        return None
+    # The mesh's own dihedral angle along each curve: a feature mesh has its triangles on the faces.
+    corners = points[tris]
+    nrm = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-300)
+    n = len(points)
+    keys = edges[:, 0] * n + edges[:, 1]
+    inner = pairs[:, 1] >= 0
+    cos = np.ones(len(edges))
+    cos[inner] = np.einsum("ij,ij->i", nrm[pairs[inner, 0]], nrm[pairs[inner, 1]])
+    segments = []
+    for verts in curves.vertices:  # one step per curve
+        a, b = np.minimum(verts[:-1], verts[1:]), np.maximum(verts[:-1], verts[1:])
+        at = np.clip(np.searchsorted(keys, a * n + b), 0, len(keys) - 1)
+        found = keys[at] == a * n + b
+        if found.any() and np.median(cos[at[found]]) > np.cos(np.radians(feature_angle)):
+            continue
+        segments.append(np.column_stack([a, b]))
+    if not segments:
+        return []
+    segments = np.concatenate(segments)
+    # The curves come in pieces whose ends are a small fraction of a voxel apart; bridged
+    # there and chained, each edge is one line.
+    from scipy.spatial import cKDTree
+
+    ends = np.unique(segments.ravel(), return_counts=True)
+    ends = ends[0][ends[1] == 1]
+    if len(ends) > 1:
+        h = float(np.median(np.linalg.norm(points[segments[:, 1]] - points[segments[:, 0]], axis=1)))
+        bridge = cKDTree(points[ends]).query_pairs(0.5 * h, output_type="ndarray")
+        if len(bridge):
+            segments = np.concatenate([segments, np.sort(ends[bridge], axis=1)])
+    return strip_segments(points, np.unique(segments, axis=0))
 
 
 def _length(p):

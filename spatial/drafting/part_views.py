@@ -76,7 +76,11 @@ def part_mesh(solid, *, resolution: int = 160):
     h = float((hi - lo).max()) / resolution
     pad = 2.0 * h
     shift = np.asarray(_SHIFT) * h
-    return mesh(solid, voxel_size=h, bounds=(lo - pad - shift, hi + pad + shift), progress=False)
+    from .measured import is_measured
+
+    # The meshing room's sharp features put vertices on the true edges (`feature_edges` draws them).
+    return mesh(solid, voxel_size=h, bounds=(lo - pad - shift, hi + pad + shift), progress=False,
+                features=not is_measured(solid))
 
 
 def exact_bounds(solid, mesh) -> tuple[np.ndarray, np.ndarray]:
@@ -178,12 +182,80 @@ def view_lines(solid, mesh, edges: SurfaceEdges, name: str, *, projection: str =
         extent = np.concatenate([uv.min(axis=0), uv.max(axis=0)])
     else:
         extent = np.concatenate([corners.min(axis=0), corners.max(axis=0)])
-    view = ViewLines(name, frame, visible, hid if hidden else [], extent=extent)
+    visible, hid = drop_overlaps(visible, hid if hidden else [], tolerance=0.5 * h, min_length=MIN_PIECE * h)
+    view = ViewLines(name, frame, visible, hid, extent=extent)
     feats = present_features(solid, h) if features is None else features
     view.features = feats
     if name != "iso":
         _centre_lines(view, feats, lo, hi)
     return view
+
+
+def drop_overlaps(visible: list, hidden: list, *, tolerance: float, min_length: float):
+    """The lines of a view with every stretch left out that lies on a line drawn before it:
+    edges behind one another in the view (a block's top and bottom outline, a hole's two rims
+    seen end-on) are drawn once, and a hidden line under a visible one is not drawn (ISO 128-20).
+
+    Lines are resampled at a third of `tolerance`; a point is covered when a point of an
+    earlier line (longer visible lines first, hidden lines after all visible ones) is within
+    `tolerance`.  Pieces shorter than `min_length` are dropped.
+    """
+    from scipy.spatial import cKDTree
+
+    lines = sorted(visible, key=lambda p: -_len2(p)) + sorted(hidden, key=lambda p: -_len2(p))
+    kinds = [0] * len(visible) + [1] * len(hidden)
+    if not lines:
+        return [], []
+    step = tolerance / 3.0
+    samples, owner = [], []
+    for i, p in enumerate(lines):  # one step per line
+        q = _resample(np.asarray(p, dtype=float), step)
+        samples.append(q)
+        owner.append(np.full(len(q), i))
+    pts, own = np.concatenate(samples), np.concatenate(owner)
+    # Arc length along each line: a line folding back over itself (edges joined round a
+    # corner, one above the other in the view) covers its own earlier stretch too.
+    arc = np.concatenate([np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(q, axis=0), axis=1))])
+                          for q in samples])
+    tree = cKDTree(pts)
+    dist, nb = tree.query(pts, k=min(32, len(pts)), distance_upper_bound=tolerance)
+    valid = np.isfinite(dist)
+    nb = np.minimum(nb, len(pts) - 1)
+    me = np.arange(len(pts))[:, None]
+    other = (own[nb] != own[:, None]) | (np.abs(arc[nb] - arc[:, None]) > 3 * tolerance)
+    covered = (valid & (nb < me) & other).any(axis=1)
+    out = ([], [])
+    start = 0
+    for i, q in enumerate(samples):  # one step per line
+        c = covered[start:start + len(q)]
+        start += len(q)
+        if not c.any():
+            out[kinds[i]].append(q if len(q) > 2 else np.asarray(lines[i], dtype=float))
+            continue
+        # Runs of uncovered points.
+        edges = np.flatnonzero(np.diff(np.concatenate([[1], c.astype(int), [1]])))
+        for a, b in zip(edges[::2], edges[1::2]):
+            # Each piece reaches a tolerance into the stretch it meets, so that corners stay closed.
+            piece = q[max(a - 3, 0):min(b + 3, len(q))]
+            if len(piece) >= 2 and _len2(piece) >= min_length:
+                out[kinds[i]].append(piece)
+    return out
+
+
+def _len2(p) -> float:
+    p = np.asarray(p, dtype=float)
+    return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) if len(p) > 1 else 0.0
+
+
+def _resample(p: np.ndarray, step: float) -> np.ndarray:
+    """`p` with points every `step` or closer along it (its own points kept)."""
+    if len(p) < 2:
+        return p
+    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    n = np.maximum(1, np.ceil(seg / step).astype(int))
+    t = np.concatenate([np.arange(k) / k for k in n])  # one range per segment
+    i = np.repeat(np.arange(len(seg)), n)
+    return np.concatenate([p[i] + t[:, None] * (p[i + 1] - p[i]), p[-1:]])
 
 
 def _centre_lines(view: ViewLines, feats, lo, hi):

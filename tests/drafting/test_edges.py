@@ -29,8 +29,9 @@ def test_box_edges_are_single_and_exact():
     dist = np.sort(np.abs(np.abs(pts) - [2.0, 1.0, 0.5]), axis=1)[:, 1]
     assert dist.max() < 0.1 * e.voxel_size
     assert np.median(dist) < 1e-6
-    # The mesh normals alone draw the chamfered edges twice.
-    assert length(surface_edges(m).polylines) > 1.5 * length(e.polylines)
+    # On a plain marching-cubes mesh the mesh normals alone draw the chamfered edges twice.
+    plain = spatial.mesh(part, resolution=40, progress=False)
+    assert length(surface_edges(plain).polylines) > 1.5 * length(e.polylines)
 
 
 def test_hole_rims_are_circles_of_the_hole_radius():
@@ -40,7 +41,10 @@ def test_hole_rims_are_circles_of_the_hole_radius():
     rims = [p for p in e.polylines if np.hypot(p[:, 0], p[:, 1]).max() < 4]
     assert len(rims) == 2
     for p in rims:
-        assert np.abs(np.hypot(p[:, 0], p[:, 1]) - 3.0).max() < 0.02
+        # The feature mesh's rim vertices are on the circle, but for the few at the joins of its
+        # curve pieces (within an eighth of a voxel, h = 0.31).
+        r = np.hypot(p[:, 0], p[:, 1])
+        assert np.median(np.abs(r - 3.0)) < 1e-6 and np.abs(r - 3.0).max() < 0.04
         assert np.abs(np.abs(p[:, 2]) - 2.0).max() < 1e-3
 
 

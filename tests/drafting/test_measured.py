@@ -168,3 +168,25 @@ def test_an_oblique_hole_gets_its_diameter_and_axis_angle_in_the_view_nearest_it
     notes = [(_view_of(sheet, g), g.data["text"]) for g in _notes(sheet, "oblique-hole")]
     assert notes == [("top", "⌀6, axis 30° from z")]
     assert not _notes(sheet, "hole")
+
+
+def test_the_top_view_of_a_box_with_a_hole_draws_each_true_edge_once():
+    # The view's lines are the meshing room's sharp feature curves: on the true edges, single.
+    sheet = part_drawing(box((40, 20, 10)) - cylinder(4, 30), name="b", resolution=64)
+    top = next(g for g in sheet.walk() if g.cls == "view" and g.data.get("name") == "top")
+    lines = [it for g in top.walk() if g.cls == "visible" for it in g.items if getattr(it, "cls", "") == "visible"]
+    pts = [np.asarray(it.points, dtype=float) for it in lines]
+    allp = np.concatenate(pts)
+    lo, hi = allp.min(axis=0), allp.max(axis=0)
+    scale = (hi[0] - lo[0]) / 40.0
+    assert scale == pytest.approx(2.0, rel=1e-3)
+    centre = 0.5 * (lo + hi)
+    # Every point is on the rectangle's outline or on the circle of the hole (within 0.05 mm of paper).
+    local = allp - centre
+    on_rect = np.minimum(np.abs(np.abs(local[:, 0]) - 40), np.abs(np.abs(local[:, 1]) - 20)) < 0.05
+    on_rect &= (np.abs(local[:, 0]) <= 40.05) & (np.abs(local[:, 1]) <= 20.05)
+    on_circle = np.abs(np.linalg.norm(local, axis=1) - 8.0) < 0.05
+    assert (on_rect | on_circle).all()
+    # Drawn once: the total length is the true one (a doubled edge would add its length again).
+    length = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in pts)
+    assert length == pytest.approx(2 * (80 + 40) + 2 * np.pi * 8, rel=0.01)
