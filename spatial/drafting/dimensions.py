@@ -113,7 +113,9 @@ class Placer:
             at = edge + sign * (FIRST_LANE + lane * LANE)
             line_lo, line_hi = (lo_, hi_) if inside else (lo_ - ARROW[0] - 2, hi_ + ARROW[0] + 2)
             # A text that does not fit between the arrows goes beyond the upper end.
-            t_along = 0.5 * (lo_ + hi_) if text_inside else hi_ + ARROW[0] + 3 + tw / 2
+            # Just past the end when the arrows are inside, past the outside arrow otherwise.
+            beyond = (ARROW[0] + 3.0) if not inside else 1.5
+            t_along = 0.5 * (lo_ + hi_) if text_inside else hi_ + beyond + tw / 2
             t_lo, t_hi = t_along - tw / 2, t_along + tw / 2
             across_lo, across_hi = at - TEXT_SIZE - 1.2, at + 1.0
             if horizontal:

@@ -277,32 +277,81 @@ def _sharp_curves(mesh, points, tris, edges, pairs, feature_angle):
         segments.append(np.column_stack([a, b]))
     if not segments:
         return []
-    segments = np.concatenate(segments)
-    # The curves come in pieces whose ends are a small fraction of a voxel apart; bridged
-    # there and chained, each edge is one line.
+    # Chained where they share vertices, then drawn on to where they meet: the curves come
+    # in pieces, and stop short of corners by up to a few voxels.
+    lines = strip_segments(points, np.unique(np.concatenate(segments), axis=0))
+    h = float(np.asarray(mesh.field_data["voxel_size"]).ravel()[0])
+    lines = lines + _bridges(lines, h, reach=16.0)
+    return _chain(join_corners(lines, h, reach=6.0, extend=True))
+
+
+def _chain(lines: list) -> list:
+    """Polylines that share end points joined into one (VTK's stripper on the merged points)."""
+    if not lines:
+        return lines
+    pts = np.concatenate(lines)
+    uniq, inv = np.unique(pts, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    sizes = np.array([len(p) for p in lines])
+    last = np.cumsum(sizes) - 1
+    keep = np.ones(len(pts) - 1, dtype=bool)
+    keep[last[:-1]] = False   # no segment from one line's end to the next line's start
+    seg = np.column_stack([inv[:-1], inv[1:]])[keep]
+    seg = seg[seg[:, 0] != seg[:, 1]]
+    return strip_segments(uniq, np.unique(np.sort(seg, axis=1), axis=0))
+
+
+def _bridges(lines: list, h: float, *, reach: float) -> list:
+    """Straight pieces across the breaks of curves: two ends within `reach` voxels, each
+    heading for the other (the chord of a break that short is within a voxel of the curve)."""
     from scipy.spatial import cKDTree
 
-    ends = np.unique(segments.ravel(), return_counts=True)
-    ends = ends[0][ends[1] == 1]
-    if len(ends) > 1:
-        h = float(np.median(np.linalg.norm(points[segments[:, 1]] - points[segments[:, 0]], axis=1)))
-        bridge = cKDTree(points[ends]).query_pairs(0.5 * h, output_type="ndarray")
-        if len(bridge):
-            segments = np.concatenate([segments, np.sort(ends[bridge], axis=1)])
-    return strip_segments(points, np.unique(segments, axis=0))
+    ends, dirs = [], []
+    for p in lines:  # one step per polyline
+        if len(p) < 2 or np.allclose(p[0], p[-1]):
+            continue
+        for tip, back in ((p[0], p[min(3, len(p) - 1)]), (p[-1], p[max(-4, -len(p))])):
+            d = tip - back
+            ends.append(tip)
+            dirs.append(d / max(np.linalg.norm(d), 1e-300))
+    if len(ends) < 2:
+        return []
+    ends, dirs = np.array(ends), np.array(dirs)
+    pairs = cKDTree(ends).query_pairs(reach * h, output_type="ndarray")
+    if len(pairs) == 0:
+        return []
+    gap = ends[pairs[:, 1]] - ends[pairs[:, 0]]
+    length = np.linalg.norm(gap, axis=1)
+    unit = gap / np.maximum(length, 1e-300)[:, None]
+    # Closer than half a voxel, any two ends meet (the pieces of a rim step across each other).
+    heading = ((np.einsum("ij,ij->i", dirs[pairs[:, 0]], unit) > 0.95) &
+               (np.einsum("ij,ij->i", dirs[pairs[:, 1]], -unit) > 0.95)) | (length < 0.5 * h)
+    heading &= length > 1e-9 * h
+    pairs, length = pairs[heading], length[heading]
+    # Each end bridged once, to its nearest partner.
+    order = np.argsort(length)
+    used = np.zeros(len(ends), dtype=bool)
+    out = []
+    for a, b in pairs[order]:  # one step per candidate break
+        if not (used[a] or used[b]):
+            used[a] = used[b] = True
+            out.append(np.array([ends[a], ends[b]]))
+    return out
 
 
 def _length(p):
     return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
 
 
-def join_corners(polylines: list, h: float) -> list:
+def join_corners(polylines: list, h: float, *, reach: float = 2.5, extend: bool = False) -> list:
     """Close the gaps the mesh leaves at corners: drop links shorter than a
-    few voxels and move the ends that meet there onto the point nearest all
-    their tangent lines (a least-squares intersection)."""
+    few voxels and move the ends that meet there (within `reach` voxels) onto
+    the point nearest all their tangent lines (a least-squares intersection);
+    with `extend` the ends stay and the lines are drawn on to that point."""
     if not polylines or h <= 0:
         return polylines
-    lines = [p for p in polylines if _length(p) > 2.5 * h or np.allclose(p[0], p[-1])]
+    lines = [p for p in polylines if _length(p) > 2.5 * h or np.allclose(p[0], p[-1])] if not extend \
+        else [p for p in polylines if len(p) >= 2]
     open_ = [i for i, p in enumerate(lines) if len(p) >= 2 and not np.allclose(p[0], p[-1])]
     if len(open_) < 1:
         return lines
@@ -319,7 +368,7 @@ def join_corners(polylines: list, h: float) -> list:
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
 
-    pairs = cKDTree(ends).query_pairs(2.5 * h, output_type="ndarray")
+    pairs = cKDTree(ends).query_pairs(reach * h, output_type="ndarray")
     if len(pairs) == 0:
         return lines
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(ends), len(ends)))
@@ -341,9 +390,12 @@ def join_corners(polylines: list, h: float) -> list:
     lines = [p.copy() for p in lines]
     for j, (i, k) in enumerate(where):  # one step per polyline end
         c = corner[comp[j]]
-        if count[comp[j]] < 2 or np.linalg.norm(c - ends[j]) > 3.0 * h:
+        if count[comp[j]] < 2 or np.linalg.norm(c - ends[j]) > (reach + 0.5) * h:
             continue
-        lines[i][0 if k == 0 else -1] = c
+        if not extend:
+            lines[i][0 if k == 0 else -1] = c
+        elif np.linalg.norm(c - ends[j]) > 1e-9 * h:
+            lines[i] = np.vstack([c, lines[i]]) if k == 0 else np.vstack([lines[i], c])
     return lines
 
 
