@@ -32,12 +32,30 @@ import numpy as np
 from .csg_features import rounded_radii, sphere_radii
 from .dimensions import Linear, Note, format_value
 
-__all__ = ["view_dimensions", "DIAMETER"]
+__all__ = ["view_dimensions", "DIAMETER", "pitch_circle"]
 
 #: The diameter sign (U+2300).
 DIAMETER = "\u2300"
 
 _C45 = np.sqrt(0.5)
+
+
+def pitch_circle(centres, tol=1e-6):
+    """``(centre (2,), radius)`` of the circle three or more hole `centres` lie on evenly
+    (a bolt circle), else None."""
+    from .measured import fit_circle
+
+    centres = np.asarray(centres, dtype=float)
+    if len(centres) < 3:
+        return None
+    c, r, rms = fit_circle(centres)
+    if r <= 0 or rms > tol * max(r, 1.0):
+        return None
+    ang = np.sort(np.arctan2(centres[:, 1] - c[1], centres[:, 0] - c[0]))
+    gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
+    if np.ptp(gaps) > 1e-3:
+        return None
+    return c, float(r)
 
 
 def _distinct(values, tol=1e-6):
@@ -60,6 +78,7 @@ def view_dimensions(name, frame, extent, features, solid, h, arcs=()) -> list:
     end_on = [f for f in features if f.kind == "cylinder" and not f.arc and abs(float(f.axis @ d)) > 1 - 1e-9]
     holes = [f for f in end_on if f.negative]
     bosses = [f for f in end_on if not f.negative]
+    on_circle = []   # hole centres placed by a pitch circle rather than by positions
     for group, sign in ((holes, True), (bosses, False)):
         by_d = {}
         for f in group:
@@ -68,15 +87,25 @@ def view_dimensions(name, frame, extent, features, solid, h, arcs=()) -> list:
             centres = np.array([np.asarray(frame)[:2] @ f.centre for f in fs])
             centres = np.unique(np.round(centres, 6), axis=0)
             pick = centres[np.argmax(centres[:, 0] + centres[:, 1])]
+            pcd = pitch_circle(centres) if sign else None
+            if pcd is not None:
+                on_circle.append((centres, pcd))
             # Bosses are met at 20 degrees, holes at 45: a hole's leader in a boss then runs beside the
             # boss's instead of along it.
             anchor = pick + dia / 2 * (np.array([_C45, _C45]) if sign else np.array([0.9397, 0.3420]))
             n = len(centres)
             text = (f"{n}x " if n > 1 else "") + DIAMETER + format_value(dia)
+            if pcd is not None:
+                text += f" on PCD {DIAMETER}{format_value(2 * pcd[1])}"
             out.append(Note(tuple(anchor), text, dia, kind="hole" if sign else "diameter", count=n,
                             centre=tuple(pick)))
     if holes:
         uv = np.array([np.asarray(frame)[:2] @ f.centre for f in holes])
+        if on_circle:
+            # Holes on a pitch circle are placed by it: its centre gets the positions instead.
+            placed = np.concatenate([c for c, _ in on_circle])
+            far = np.min(np.linalg.norm(uv[:, None] - placed[None], axis=2), axis=1) > 1e-6
+            uv = np.concatenate([uv[far], np.array([pcd[0] for _, pcd in on_circle])])
         for u in _distinct(uv[:, 0]):
             if u - umin > 1e-6:
                 out.append(Linear((umin, vmin), (u, vmin), "h", "below", u - umin, kind="position"))

@@ -82,11 +82,25 @@ def arrowhead(group: Group, tip, towards):
     group.polygon([tip, base + ARROW[1] * n, base - ARROW[1] * n], "dimension")
 
 
+def _segment_boxes(a, b, size: float = 1.5) -> list:
+    """Small boxes along the segment from `a` to `b` (a leader as obstacles), the first
+    `2 * size` left out: the arrow end sits on the part's outline, among its other marks."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    n = max(2, int(np.linalg.norm(b - a) / size) + 1)
+    t = np.linspace(0, 1, n)[:, None]
+    pts = a + t * (b - a)
+    pts = pts[np.linalg.norm(pts - a, axis=1) > 2 * size]
+    h = 0.4
+    return [(x - h, y - h, x + h, y + h) for x, y in pts]
+
+
 class Placer:
     """Places dimensions lane by lane; remembers every box placed (`boxes`)."""
 
     def __init__(self, obstacles):
         self.boxes = [tuple(b) for b in obstacles]
+        #: Boxes of dimension texts and leaders only (a leader must enter its view, not cross a text).
+        self.marks = []
 
     def _free(self, box, own_view=None) -> bool:
         return not any(_overlaps(box, b) for b in self.boxes if b is not own_view)
@@ -125,6 +139,7 @@ class Placer:
             if self._free(box):
                 break
         self.boxes.append(box)
+        self.marks.append(box)
         g = parent.group(None, "dimension", kind=dim.kind, value=format_value(dim.value), text=text)
         for p in (a, b):
             if horizontal:
@@ -159,9 +174,12 @@ class Placer:
             knee = np.array([p[0] + rise, knee_y])
             end = knee + (3.0, 0.0)
             box = (knee[0] - 0.5, knee_y - TEXT_SIZE - 1.0, end[0] + 1.0 + tw, knee_y + 1.5)
-            if self._free(box):
+            leader = _segment_boxes(p, knee)
+            if self._free(box) and not any(_overlaps(a, b, 0.3) for a in leader for b in self.marks):
                 break
         self.boxes.append(box)
+        self.marks.append(box)
+        self.marks.extend(leader)
         g = parent.group(None, "dimension", kind=dim.kind, value=format_value(dim.value), text=dim.text,
                          count=dim.count)
         g.line([p, knee, end], "dimension")

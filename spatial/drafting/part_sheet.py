@@ -75,6 +75,10 @@ def emit_view_lines(group: Group, view: ViewLines, place, *, centre_lines: bool 
             continue
         d /= n
         sub.line([pa - CENTRE_OVERSHOOT * d, pb + CENTRE_OVERSHOOT * d], "center")
+    for c, r in view.pitch_circles:
+        t = np.linspace(0, 2 * np.pi, 145)
+        ring = np.asarray(c) + r * np.column_stack([np.cos(t), np.sin(t)])
+        sub.line(place.to_sheet(ring), "center")
     for c, r in view.centres:
         pc = place.to_sheet(np.array(c))
         arm = r * place.scale + CENTRE_OVERSHOOT

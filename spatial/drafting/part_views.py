@@ -49,6 +49,8 @@ class ViewLines:
         Centre lines of axes lying in the view plane (end points).
     centres : list of ((2,), float)
         Centres and radii of circles seen end-on (they get centre crosses).
+    pitch_circles : list of ((2,), float)
+        Circles that three or more equally spaced holes seen end-on lie on (chain lines).
     extent : (4,) float
         ``umin, vmin, umax, vmax`` of the part in this view.
     features : list of AxialFeature
@@ -63,6 +65,7 @@ class ViewLines:
     centres: list = field(default_factory=list)
     extent: np.ndarray = None
     features: list = field(default_factory=list)
+    pitch_circles: list = field(default_factory=list)
 
 
 def part_mesh(solid, *, resolution: int = 160):
@@ -259,8 +262,18 @@ def _resample(p: np.ndarray, step: float) -> np.ndarray:
 
 
 def _centre_lines(view: ViewLines, feats, lo, hi):
+    from .auto_dims import pitch_circle
+
     seen_axes, seen_centres = set(), set()
     d = view.frame[2]
+    by_d = {}
+    for f in feats:
+        if f.negative and not f.arc and f.kind == "cylinder" and abs(float(f.axis @ d)) > 1 - 1e-9:
+            by_d.setdefault(round(f.diameter, 6), set()).add(tuple(np.round(view.frame[:2] @ f.centre, 6)))
+    for centres in by_d.values():
+        pcd = pitch_circle(np.array(sorted(centres)))
+        if pcd is not None:
+            view.pitch_circles.append(pcd)
     for f in feats:
         if f.arc:
             continue

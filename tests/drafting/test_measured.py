@@ -190,3 +190,18 @@ def test_the_top_view_of_a_box_with_a_hole_draws_each_true_edge_once():
     # Drawn once: the total length is the true one (a doubled edge would add its length again).
     length = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in pts)
     assert length == pytest.approx(2 * (80 + 40) + 2 * np.pi * 8, rel=0.01)
+
+
+def test_bolt_holes_on_a_circle_are_called_out_on_their_pitch_circle():
+    from implicit.library.pipes import pipe_flange
+
+    sheet = part_drawing(pipe_flange("DN50"), name="f", resolution=64)
+    top = next(g for g in sheet.walk() if g.cls == "view" and g.data.get("name") == "top")
+    texts = [g.data["text"] for g in top.walk() if g.cls == "dimension" and g.data.get("kind") == "hole"]
+    # EN 1092-1 PN16 DN50: 4 bolt holes of 18 on a 125 circle, placed by it (no odd positions).
+    assert sorted(texts) == ["4x ⌀18 on PCD ⌀125", "⌀61.1"]
+    pos = sorted(float(g.data["value"]) for g in top.walk() if g.cls == "dimension" and g.data.get("kind") == "position")
+    assert pos == [82.5, 82.5]
+    # The pitch circle is drawn as a chain line through the four hole centres.
+    rings = [it for g in top.walk() if g.cls == "center" for it in g.items if len(it.points) > 100]
+    assert len(rings) == 1
