@@ -166,17 +166,35 @@ class Placer:
 
     # -- notes ----------------------------------------------------------------
     def _note(self, parent, dim: Note, to_sheet, view_box, max_lanes):
-        p = np.asarray(to_sheet(dim.anchor), float)
         tw = text_width(dim.text, TEXT_SIZE)
-        for lane in range(max_lanes):
-            knee_y = view_box[1] - 5.0 - lane * LANE
-            rise = p[1] - knee_y
-            knee = np.array([p[0] + rise, knee_y])
-            end = knee + (3.0, 0.0)
-            box = (knee[0] - 0.5, knee_y - TEXT_SIZE - 1.0, end[0] + 1.0 + tw, knee_y + 1.5)
-            leader = _segment_boxes(p, knee)
-            if self._free(box) and not any(_overlaps(a, b, 0.3) for a in leader for b in self.marks):
-                break
+        anchors = [np.asarray(dim.anchor, float)]
+        if dim.centre is not None:
+            # Other points of the same circle, all up and to the right (the leader runs that way).
+            c = np.asarray(dim.centre, float)
+            r = float(np.linalg.norm(anchors[0] - c))
+            anchors += [c + r * np.array([np.cos(a), np.sin(a)]) for a in np.radians((70.0, 20.0, 85.0, 5.0))]
+        first = None
+        for anchor in anchors:  # a few candidates, each tried lane by lane
+            p = np.asarray(to_sheet(anchor), float)
+            for lane in range(max_lanes // 2):
+                knee_y = view_box[1] - 5.0 - lane * LANE
+                knee = np.array([p[0] + p[1] - knee_y, knee_y])
+                end = knee + (3.0, 0.0)
+                box = (knee[0] - 0.5, knee_y - TEXT_SIZE - 1.0, end[0] + 1.0 + tw, knee_y + 1.5)
+                leader = _segment_boxes(p, knee)
+                choice = (p, knee, end, box, leader)
+                first = first or choice
+                if self._free(box) and not any(_overlaps(box, b, 0.3) for b in self.marks) and \
+                        not any(_overlaps(a, b, 0.3) for a in leader for b in self.marks):
+                    break
+            else:
+                continue
+            break
+        else:
+            # Nowhere free: the nearest place, rather than a leader across the sheet.
+            choice = first
+        p, knee, end, box, leader = choice
+        knee_y = knee[1]
         self.boxes.append(box)
         self.marks.append(box)
         self.marks.extend(leader)

@@ -228,18 +228,24 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
         corner_normals = np.repeat(c_normals[:, None, :], 3, axis=1)
         on_leaf = np.ones(len(tris), dtype=bool)
     edges, pairs = _edge_pairs(tris)
-    polylines = _sharp_curves(mesh, points, tris, edges, pairs, feature_angle) if solid is not None else None
-    if polylines is None:
-        inner = pairs[:, 1] >= 0
-        cos = np.full(len(edges), -1.0)
-        cos[inner] = np.einsum("ij,ij->i", c_normals[pairs[inner, 0]], c_normals[pairs[inner, 1]])
-        feature = cos < np.cos(np.radians(feature_angle))
-        snapped = _snap(points, tris, edges, c_points, c_normals, feature) \
-            if solid is not None and feature.any() else points
-        polylines = strip_segments(snapped, edges[feature])
-        if marched:
-            # Only marching cubes leaves its voxel-sized links at corners.
-            polylines = join_corners(polylines, h)
+    curves = _sharp_curves(mesh, points, tris, edges, pairs, feature_angle) if solid is not None else None
+    inner = pairs[:, 1] >= 0
+    cos = np.full(len(edges), -1.0)
+    cos[inner] = np.einsum("ij,ij->i", c_normals[pairs[inner, 0]], c_normals[pairs[inner, 1]])
+    feature = cos < np.cos(np.radians(feature_angle))
+    if curves is not None:
+        # The feature curves are the edges between CSG faces; corners inside one face (a
+        # tooth's tip on a gear's profile) are still found where the exact normals jump.
+        curves, on_curve = curves
+        feature &= ~(on_curve[edges[:, 0]] & on_curve[edges[:, 1]])
+    snapped = _snap(points, tris, edges, c_points, c_normals, feature) \
+        if solid is not None and feature.any() else points
+    polylines = strip_segments(snapped, edges[feature])
+    if marched:
+        # Only marching cubes leaves its voxel-sized links at corners.
+        polylines = join_corners(polylines, h)
+    if curves is not None:
+        polylines = [p for p in polylines if _length(p) > 2.5 * h] + curves
     spread = np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 1])
     spread = np.minimum(spread, np.einsum("ij,ij->i", corner_normals[:, 0], corner_normals[:, 2]))
     # Chamfer triangles across a sharp edge have corners on two faces: not a curved face.
@@ -249,8 +255,9 @@ def surface_edges(mesh, solid=None, *, feature_angle: float = FEATURE_ANGLE) -> 
 
 def _sharp_curves(mesh, points, tris, edges, pairs, feature_angle):
     """The meshing room's sharp feature curves (`spatial.meshing.feature_edges`) of a mesh made
-    with ``features=True``, less the tangent ones (faces meeting within `feature_angle`);
-    None when the mesh has none (a mesh or field with no CSG faces)."""
+    with ``features=True``, less the tangent ones (faces meeting within `feature_angle`), and
+    which mesh vertices they run through; None when the mesh has none (a mesh or field with
+    no CSG faces)."""
     if "feature_rank" not in mesh.point_data:
         return None
     from ..meshing import feature_edges
@@ -258,6 +265,8 @@ def _sharp_curves(mesh, points, tris, edges, pairs, feature_angle):
     curves = feature_edges(mesh)
     if not curves.polylines:
         return None
+    on_curve = np.zeros(len(points), dtype=bool)
+    on_curve[np.concatenate(curves.vertices)] = True
     # The mesh's own dihedral angle along each curve: a feature mesh has its triangles on the faces.
     corners = points[tris]
     nrm = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
@@ -276,13 +285,13 @@ def _sharp_curves(mesh, points, tris, edges, pairs, feature_angle):
             continue
         segments.append(np.column_stack([a, b]))
     if not segments:
-        return []
+        return [], on_curve
     # Chained where they share vertices, then drawn on to where they meet: the curves come
     # in pieces, and stop short of corners by up to a few voxels.
     lines = strip_segments(points, np.unique(np.concatenate(segments), axis=0))
     h = float(np.asarray(mesh.field_data["voxel_size"]).ravel()[0])
     lines = lines + _bridges(lines, h, reach=16.0)
-    return _chain(join_corners(lines, h, reach=6.0, extend=True))
+    return _chain(join_corners(lines, h, reach=6.0, extend=True)), on_curve
 
 
 def _chain(lines: list) -> list:

@@ -192,10 +192,15 @@ def test_the_top_view_of_a_box_with_a_hole_draws_each_true_edge_once():
     assert length == pytest.approx(2 * (80 + 40) + 2 * np.pi * 8, rel=0.01)
 
 
-def test_bolt_holes_on_a_circle_are_called_out_on_their_pitch_circle():
+@pytest.fixture(scope="module")
+def flange_sheet():
     from implicit.library.pipes import pipe_flange
 
-    sheet = part_drawing(pipe_flange("DN50"), name="f", resolution=64)
+    return part_drawing(pipe_flange("DN50"), name="f", resolution=64)
+
+
+def test_bolt_holes_on_a_circle_are_called_out_on_their_pitch_circle(flange_sheet):
+    sheet = flange_sheet
     top = next(g for g in sheet.walk() if g.cls == "view" and g.data.get("name") == "top")
     texts = [g.data["text"] for g in top.walk() if g.cls == "dimension" and g.data.get("kind") == "hole"]
     # EN 1092-1 PN16 DN50: 4 bolt holes of 18 on a 125 circle, placed by it (no odd positions).
@@ -205,3 +210,26 @@ def test_bolt_holes_on_a_circle_are_called_out_on_their_pitch_circle():
     # The pitch circle is drawn as a chain line through the four hole centres.
     rings = [it for g in top.walk() if g.cls == "center" for it in g.items if len(it.points) > 100]
     assert len(rings) == 1
+
+
+def _segment_hits_box(a, b, box, pad=0.3):
+    t = np.linspace(0, 1, 200)[:, None]
+    p = np.asarray(a) + t * (np.asarray(b) - np.asarray(a))
+    return bool(((p[:, 0] > box[0] - pad) & (p[:, 0] < box[2] + pad) & (p[:, 1] > box[1] - pad)
+                 & (p[:, 1] < box[3] + pad)).any())
+
+
+def test_no_leader_crosses_another_dimension_s_text(flange_sheet):
+    # Three concentric callouts (bore, bolt holes, outline) on one view: each leader keeps off the others' texts.
+    dims = [g for g in flange_sheet.walk() if g.cls == "dimension"]
+    texts = {id(g): [it.box() for it in g.items if hasattr(it, "text")] for g in dims}
+    notes = [g for g in dims if g.data.get("kind") in ("hole", "diameter", "radius")]
+    assert len(notes) >= 3
+    for g in notes:
+        leader = np.asarray(g.items[0].points)
+        for other in dims:
+            if other is g:
+                continue
+            for box in texts[id(other)]:
+                for a, b in zip(leader[:-1], leader[1:]):
+                    assert not _segment_hits_box(a, b, box), (g.data["text"], other.data["text"])
