@@ -101,6 +101,8 @@ class Placer:
         self.boxes = [tuple(b) for b in obstacles]
         #: Boxes of dimension texts and leaders only (a leader must enter its view, not cross a text).
         self.marks = []
+        #: The lane last taken on each side of each view: later (longer) dimensions go outside it.
+        self.lanes = {}
 
     def _free(self, box, own_view=None) -> bool:
         return not any(_overlaps(box, b) for b in self.boxes if b is not own_view)
@@ -123,13 +125,18 @@ class Placer:
         text_inside = span >= tw + 2 * ARROW[0] + 1.0
         sign = {"below": 1.0, "right": 1.0, "above": -1.0, "left": -1.0}[dim.side]
         edge = {"below": view_box[3], "above": view_box[1], "right": view_box[2], "left": view_box[0]}[dim.side]
-        for lane in range(max_lanes):
+        key = (tuple(np.round(view_box, 6)), dim.side)
+        for lane in range(min(self.lanes.get(key, -1) + 1, max_lanes - 1), max_lanes):
             at = edge + sign * (FIRST_LANE + lane * LANE)
             line_lo, line_hi = (lo_, hi_) if inside else (lo_ - ARROW[0] - 2, hi_ + ARROW[0] + 2)
             # A text that does not fit between the arrows goes beyond the upper end.
-            # Just past the end when the arrows are inside, past the outside arrow otherwise.
+            # A text that does not fit goes past the datum end (`a`): the extension lines of the
+            # longer dimensions from the same datum, further out, then never cross it.  Just past
+            # the end when the arrows are inside, past the outside arrow otherwise.
             beyond = (ARROW[0] + 3.0) if not inside else 1.5
-            t_along = 0.5 * (lo_ + hi_) if text_inside else hi_ + beyond + tw / 2
+            at_lo = (a[0] if horizontal else a[1]) <= lo_ + 1e-9
+            t_along = 0.5 * (lo_ + hi_) if text_inside else \
+                (lo_ - beyond - tw / 2 if at_lo else hi_ + beyond + tw / 2)
             t_lo, t_hi = t_along - tw / 2, t_along + tw / 2
             across_lo, across_hi = at - TEXT_SIZE - 1.2, at + 1.0
             if horizontal:
@@ -138,6 +145,7 @@ class Placer:
                 box = (across_lo, min(line_lo, t_lo), across_hi, max(line_hi, t_hi))
             if self._free(box):
                 break
+        self.lanes[key] = lane
         self.boxes.append(box)
         self.marks.append(box)
         g = parent.group(None, "dimension", kind=dim.kind, value=format_value(dim.value), text=text)

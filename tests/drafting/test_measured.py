@@ -233,3 +233,27 @@ def test_no_leader_crosses_another_dimension_s_text(flange_sheet):
             for box in texts[id(other)]:
                 for a, b in zip(leader[:-1], leader[1:]):
                     assert not _segment_hits_box(a, b, box), (g.data["text"], other.data["text"])
+
+
+def test_no_dimension_text_is_crossed_by_another_s_extension_line():
+    # The bracket at 1:2: hole positions too short for their texts, which go past the datum end;
+    # longer dimensions from that datum lie further out, the overall size outermost.
+    from implicit.models import load_model
+
+    sheet = part_drawing(load_model("examples/bracket.py"), name="b", resolution=48, projection="third",
+                         section="y=15")
+    for view in (g for g in sheet.walk() if g.cls == "view"):
+        linear = [g for g in view.walk() if g.cls == "dimension" and g.data.get("kind") in ("position", "overall")]
+        for g in linear:
+            box = next(it.box() for it in g.items if hasattr(it, "text"))
+            for other in linear:
+                if other is g:
+                    continue
+                for ext in other.items[:2]:   # the two extension lines
+                    a, b = np.asarray(ext.points)[0], np.asarray(ext.points)[-1]
+                    assert not _segment_hits_box(a, b, box, pad=0.0), (view.data["name"], g.data["text"],
+                                                                       other.data["text"])
+        # Lanes outwards in order of length on each side: the overall size is the outermost.
+        below = sorted((float(np.asarray(g.items[2].points)[0, 1]), float(g.data["value"]))
+                       for g in linear if np.ptp(np.asarray(g.items[2].points)[:, 1]) < 1e-9)
+        assert [v for _, v in below] == sorted(v for _, v in below)
