@@ -93,7 +93,8 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
     material, density :
         For the masses of the parts list (kg/m^3; by default the named material's).
     units : str, optional
-        The parts' length unit (`spatial.analysis.UNITS`); the masses assume mm without it.
+        The parts' length unit (`spatial.analysis.UNITS`); without it the sheet and the
+        masses say "mm, assumed".
 
     Returns
     -------
@@ -159,7 +160,7 @@ def assembly_drawing(parts: dict, *, name: str = "assembly", projection: str = "
     area = max(areas, key=scale_in)
     s = scale_in(area)
     meta = {"title": name, "projection": projection, "material": material, "scale": scale_text(s),
-            "units": unit_label(units) if units else "mm (assumed for the masses)"}
+            "units": unit_label(units) if units else "mm, assumed"}
     if date:
         meta["date"] = date
     drawing, _ = new_sheet(sheet, meta)

@@ -33,7 +33,7 @@ import numpy as np
 
 from .csg_features import AxialFeature, leaves
 
-__all__ = ["fit_circle", "fit_arcs", "step_for", "snap", "is_measured", "measured_holes", "Arc",
+__all__ = ["fit_circle", "fit_arcs", "step_for", "snap", "snap_to_holes", "is_measured", "measured_holes", "Arc",
            "section_arcs", "MEASURED_KINDS"]
 
 #: Leaves whose bounds and surfaces the tree does not state exactly: the drawing measures them.
@@ -315,3 +315,17 @@ def section_arcs(solid, bounds, h: float, *, axis: int, resolution: int = 256) -
             m3 = sec.point + mid[0] * sec.frame[0] + mid[1] * sec.frame[1]
             out.append(Arc(c3, m3, r, turn, concave))
     return out
+
+
+def snap_to_holes(points, holes, reach: float) -> np.ndarray:
+    """`points` ``(k, 3)`` within `reach` of a hole's wall moved radially onto it."""
+    p = np.array(points, dtype=float)
+    for f in holes:  # one step per hole
+        rel = p - f.centre
+        t = rel @ f.axis
+        radial = rel - t[:, None] * f.axis
+        dist = np.linalg.norm(radial, axis=1)
+        r = f.diameter / 2
+        near = (np.abs(dist - r) < reach) & (t >= f.start - reach) & (t <= f.stop + reach) & (dist > 0)
+        p[near] = f.centre + t[near, None] * f.axis + radial[near] * (r / dist[near])[:, None]
+    return p

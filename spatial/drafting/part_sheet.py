@@ -21,7 +21,7 @@ from .layout import place_grid
 from .model import Drawing, Group
 from .part_views import ViewLines, exact_bounds, part_mesh, present_features, view_lines
 from .edges import surface_edges
-from .measured import is_measured, measured_holes, section_arcs, snap, step_for
+from .measured import is_measured, measured_holes, section_arcs, snap, snap_to_holes, step_for
 from .units import check_units, paper_per_unit, unit_label
 from .section_view import hatch_segments, plan_section, section_loops
 from .sheet import SHEETS, TITLE_BLOCK, drawing_area, new_sheet
@@ -145,7 +145,11 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
         # Sizes measured on the mesh are drawn to the precision the mesh gives them.
         bounds = tuple(snap(b, step_for(h)) for b in bounds)
     features = present_features(solid, h)
-    features = features + measured_holes(solid, bounds, h, known=features, mesh=mesh)
+    measured = measured_holes(solid, bounds, h, known=features, mesh=mesh)
+    features = features + measured
+    if measured and is_measured(solid):
+        # The mesh's edges round the measured holes, moved onto the fitted walls.
+        edges.polylines = [snap_to_holes(p, measured, 1.5 * h) for p in edges.polylines]
     views, loops = {}, None
     for view_name, _ in grid(projection):
         if plan is not None and view_name == plan.section_view:
