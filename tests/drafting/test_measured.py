@@ -27,11 +27,12 @@ def plate():
 def stl_plate(tmp_path_factory):
     """The plate written to STL and read back as a level set: no cylinder leaves left."""
     import spatial
-    from spatial.cli.common import load_solid
+    from spatial.cells import mesh_to_solid
+    from spatial.files import load_mesh
 
     path = tmp_path_factory.mktemp("stl") / "plate.stl"
     spatial.mesh(plate(), resolution=80, progress=False).save(str(path))
-    return load_solid(str(path))
+    return mesh_to_solid(load_mesh(str(path)), 0.5)
 
 
 @given(cx=st.floats(-50, 50), cy=st.floats(-50, 50), r=st.floats(0.1, 40), a0=st.floats(0, 6.28),
@@ -78,7 +79,7 @@ def test_arcs_of_a_rounded_outline_are_found_with_their_radii():
 
 @pytest.fixture(scope="module")
 def stl_sheet(stl_plate):
-    return ET.fromstring(svg_text(part_drawing(stl_plate, name="plate", resolution=80)))
+    return ET.fromstring(svg_text(part_drawing(stl_plate, name="plate", resolution=64)))
 
 
 def _dims(root, view):
@@ -155,9 +156,9 @@ def test_measured_arcs_give_the_radius_of_a_fillet_the_tree_does_not_know(tmp_pa
     from spatial.cells import mesh_to_solid
     from implicit.models import load_model
 
-    m = spatial.mesh(load_model("examples/bracket_fillet.py"), resolution=96, progress=False)
-    part = mesh_to_solid(m, 50 / 100)
-    sheet = part_drawing(part, name="b", resolution=96)
+    m = spatial.mesh(load_model("examples/bracket_fillet.py"), resolution=64, progress=False)
+    part = mesh_to_solid(m, 0.6)
+    sheet = part_drawing(part, name="b", resolution=64)
     front = [float(g.data["value"]) for g in _notes(sheet, "radius") if _view_of(sheet, g) == "front"]
     assert any(abs(r - 5.0) <= 0.3 for r in front), front
 
