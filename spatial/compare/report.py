@@ -71,7 +71,7 @@ def _section_picture(sec, path, title):
     plt.close(fig)
 
 
-def _drawing_sheet(solid, mesh, path, name, resolution):
+def _drawing_sheet(solid, mesh, path, name, resolution, units, units_assumed):
     """The drafting room's drawing sheet (PNG, with an SVG beside it); the shaded views when it cannot draw.
 
     Returns ``(what was drawn, extra files)``; a fallback says why in the report.
@@ -81,7 +81,8 @@ def _drawing_sheet(solid, mesh, path, name, resolution):
     write_drawing = getattr(drafting, "write_drawing", None)
     if part_drawing is not None and write_drawing is not None:
         try:
-            sheet = part_drawing(solid, name=name, resolution=max(int(resolution), 48))
+            sheet = part_drawing(solid, name=name, resolution=max(int(resolution), 48), units=units,
+                                 units_assumed=units_assumed)
             write_drawing(sheet, path)
             svg = os.path.splitext(path)[0] + ".svg"
             write_drawing(sheet, svg)
@@ -208,7 +209,8 @@ def report(solid, out_dir, *, name="part", resolution=96, compare_resolution=48,
         from .. import drafting
         drafting.render(m, p("shaded.png"), style="shaded", view="iso", window_size=(900, 700))
         paths["shaded"] = p("shaded.png")
-        facts["sheet"], extra = _drawing_sheet(solid, m, p("sheet.png"), name, resolution)
+        facts["sheet"], extra = _drawing_sheet(solid, m, p("sheet.png"), name, resolution, units,
+                                                       bool(units_assumed))
         paths["sheet"] = p("sheet.png")
         paths.update(extra)
         bar.update(1)

@@ -101,7 +101,8 @@ def _margins(dims) -> tuple:
 
 def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet: str = "A4",
                  section: str | None = None, resolution: int = 160, material: str | None = None,
-                 date: str | None = None, scale: float | None = None, units: str | None = None) -> Drawing:
+                 date: str | None = None, scale: float | None = None, units: str | None = None,
+                 units_assumed: bool = False) -> Drawing:
     """The drawing of one part.
 
     Parameters
@@ -123,6 +124,9 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
     units : str, optional
         The model's length unit (``"mm"``, ``"m"``...: `spatial.analysis.UNITS`), stated in the
         title block and making the scale a true ratio; None draws in "units of the model".
+    units_assumed : bool
+        The model declares no unit and `units` is the caller's assumption: the title
+        block says so ("m, assumed"), as the report and the mass output do.
 
     Returns
     -------
@@ -180,7 +184,7 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
     unit_mm = paper_per_unit(units)
     s, places = place_grid(cells, drawing_area(sheet), scale=scale, unit_mm=unit_mm)
     meta = {"title": name, "projection": projection, "material": material or "-", "scale": scale_text(s / unit_mm),
-            "units": unit_label(units)}
+            "units": unit_label(units) + (", assumed" if units_assumed and units is not None else "")}
     if date:
         meta["date"] = date
     drawing, _ = new_sheet(sheet, meta)

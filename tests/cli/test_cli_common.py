@@ -123,6 +123,19 @@ def test_report_writes_every_page(capsys, tmp_path, small_model):
     md = open(paths["markdown"], encoding="utf-8").read()
     assert "![shaded view](shaded.png)" in md and "drawing sheet from spatial.drafting" in md
     assert os.path.getsize(paths["sheet_svg"]) > 1000
+    assert 'data-units="mm"' in open(paths["sheet_svg"], encoding="utf-8").read()
+
+
+def test_the_report_s_sheet_states_the_unit_the_report_assumed(capsys, tmp_path):
+    model = tmp_path / "plain.py"
+    model.write_text("from implicit import box\nsolid = box((4, 2, 1))\n")
+    out = tmp_path / "rep"
+    assert main(["report", str(model), "-o", str(out), "--resolution", "16", "--compare-resolution", "12",
+                 "--json"]) == 0
+    paths = json.loads(capsys.readouterr().out)["report"]
+    sheet = open(paths["sheet_svg"], encoding="utf-8").read()
+    assert 'data-units="m, assumed"' in sheet and "Dimensions in m, assumed;" in sheet
+    assert "m (assumed" in open(paths["markdown"], encoding="utf-8").read()
 
 
 def test_report_refuses_a_file_as_folder(capsys, tmp_path, small_model):
