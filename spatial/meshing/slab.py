@@ -7,7 +7,7 @@ import functools
 import numpy as np
 
 from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
-from .blocks import INTERIOR, _edges_of, _marching_cubes
+from .kernels import take_block
 
 __all__ = []
 
@@ -38,6 +38,7 @@ class _SlabJob:
         self.slab, self.stride, self.lip = slab, stride, lip
         self.x0 = slab * block
         self.nbz = int(stride) // block + 3  # block keys: by * nbz + bz, the same in every slab
+        self.capacity_hint = 1 << 16  # vertices the slab's buffers start with
 
     # -- the parts -------------------------------------------------------------------------
     def _blocks(self, sc):
@@ -288,26 +289,8 @@ class _SlabJob:
         del placeholder
         raw = self._mesh_blocks(cells, values.reshape(self.nb, B + 1, B + 1, B + 1))
         if raw is not None:
-            # every end of a crossing edge holds its value: read the ends from the dense samples
-            vblk, node, axis, faces = raw
-            del raw
-            n1 = B + 1
-            end = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
-            f0 = values[end]
-            end += np.array([n1 * n1, n1, 1, 0], dtype=np.int64)[axis]
-            f1 = values[end]
-            del end
-            # a vertex on an edge lying in a block face may be another block's too (one inside a
-            # cube never is)
-            shared = (((node == 0) | (node == B)) & (axis[:, None] != np.arange(3))).any(axis=1)
-            shared &= axis != INTERIOR
-            node[:, 0] += x0
-            node[:, 1] += (self.bys[vblk] * B).astype(np.int32)
-            node[:, 2] += (self.bzs[vblk] * B).astype(np.int32)
-            del vblk
-            edges = ((node[:, 0].astype(np.int64) * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
-            parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
-            del edges, shared, node, axis, f0, f1, faces
+            parts.append(raw)
+        del raw
         del values
         # the upper plane goes to the next slab (values NaN where only the sign is known)
         hid, first = np.unique(ids(top), return_index=True)
@@ -315,8 +298,9 @@ class _SlabJob:
         return self.nb, spent, handoff
 
     def _mesh_blocks(self, cells, values):
-        """Marching cubes on every active block of the slab: ``(block, lower node of the edge
-        (block-local), axis, faces)`` of the slab's vertices, or None."""
+        """Marching cubes on every active block of the slab: the slab's part for `merge_blocks`
+        (global edge ids of the vertices in block faces, their mask, ``(node, axis, f0, f1)``,
+        faces), or None."""
         B, c, x0, stride = self.B, self.c, self.x0, self.stride
         inv = self.cl[0]
         local = np.stack(self.cl[1:], axis=1)
@@ -332,8 +316,9 @@ class _SlabJob:
         elif c > 1:
             for ax in (1, 2, 3):
                 voxels = np.repeat(voxels, c, axis=ax)
-        verts, faces, counts, origins = [], [], [], []
-        n_verts = 0
+        buf = _SlabBuffers(self.capacity_hint)
+        gy = self.bys * B
+        gz = self.bzs * B
         for b in range(self.nb):
             box_lo, box_hi = (lows[b] * c).tolist(), (highs[b] * c).tolist()
             cb = voxels[b, box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
@@ -343,23 +328,74 @@ class _SlabJob:
             vol = np.ascontiguousarray(values[box])
             mask = np.zeros(vol.shape, dtype=bool)
             mask[1:, 1:, 1:] = cb
-            v, f = _marching_cubes(vol, mask)
-            if v is None or f.shape[0] == 0:
+            verts, tri = _marching_cubes_raw(vol, mask)
+            if verts.shape[0] == 0 or tri.shape[0] == 0:
                 continue
-            verts.append(v)
-            faces.append(f + n_verts if n_verts else f)
-            counts.append(v.shape[0])
-            origins.append((b, xs, ys, zs))
-            n_verts += v.shape[0]
-        if not verts:
+            buf.reserve(verts.shape[0], tri.shape[0] // 3)
+            buf.vat, buf.fat, buf.eat = take_block(
+                verts, tri, values, b, xs, ys, zs, B, x0, int(gy[b]), int(gz[b]), int(stride), buf.node, buf.axis,
+                buf.f0, buf.f1, buf.shared, buf.edge, buf.faces, buf.vat, buf.fat, buf.eat)
+        if buf.vat == 0:
             return None
-        verts = np.concatenate(verts)
-        faces = np.concatenate(faces).astype(np.int32 if n_verts < 2 ** 31 else np.int64)
-        where = np.repeat(np.asarray(origins, dtype=np.int32), counts, axis=0)
-        node, axis = _edges_of(verts)
-        del verts
-        node += where[:, 1:]
-        return where[:, 0], node, axis, faces
+        return buf.part()
+
+
+class _SlabBuffers:
+    """Growing per-slab arrays the blocks' vertices and faces are written into (no list of pieces
+    to concatenate); `part` trims them to the part `merge_blocks` takes."""
+
+    def __init__(self, capacity):
+        self.vat = self.fat = self.eat = 0
+        self._alloc(max(int(capacity), 1024))
+
+    def _alloc(self, cap, old=None):
+        self.cap = cap
+        self.node = np.empty((cap, 3), np.int32)
+        self.axis = np.empty(cap, np.uint8)
+        self.f0 = np.empty(cap, np.float32)
+        self.f1 = np.empty(cap, np.float32)
+        self.shared = np.empty(cap, np.bool_)
+        self.edge = np.empty(cap, np.int64)
+        self.faces = np.empty((2 * cap + 16, 3), np.int32)
+        if old is not None:
+            for name in ("node", "axis", "f0", "f1", "shared"):
+                getattr(self, name)[:self.vat] = getattr(old, name)[:self.vat]
+            self.edge[:self.eat] = old.edge[:self.eat]
+            self.faces[:self.fat] = old.faces[:self.fat]
+
+    def reserve(self, nv, nf):
+        if self.vat + nv > self.cap or self.fat + nf > self.faces.shape[0]:
+            old = _Old(self)
+            self._alloc(max(2 * self.cap, self.vat + nv, (self.fat + nf) // 2 + 1), old)
+
+    def part(self):
+        v, f, e = self.vat, self.fat, self.eat
+        # copies: the buffers' spare room is not kept alive by the part
+        return (self.edge[:e].copy(), self.shared[:v].copy(),
+                (self.node[:v].copy(), self.axis[:v].copy(), self.f0[:v].copy(), self.f1[:v].copy()),
+                self.faces[:f].copy())
+
+
+class _Old:
+    def __init__(self, buf):
+        self.__dict__.update(buf.__dict__)
+
+
+def _marching_cubes_raw(values, mask):
+    """scikit-image's Lewiner marching cubes at level 0 from its Cython kernel: vertices (columns in
+    reversed axis order) and flat triangles (wound for ``ascent``).  The Python wrapper's checks,
+    flips and copies are left out: `take_block` reads the kernel's output as it is."""
+    global _LUTS, _MC
+    if _MC is None:
+        from skimage.measure import _marching_cubes_lewiner_cy as cy
+        from skimage.measure._marching_cubes_lewiner import _get_mc_luts
+
+        _LUTS, _MC = _get_mc_luts(), cy.marching_cubes
+    verts, tri, _, _ = _MC(values, 0.0, _LUTS, 1, False, mask)
+    return verts, tri
+
+
+_LUTS = _MC = None
 
 
 @functools.lru_cache(maxsize=8)

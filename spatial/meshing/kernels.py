@@ -1,0 +1,94 @@
+"""Compiled kernels of the plain marching-cubes path: per-slab bookkeeping and the merge of blocks.
+
+Module-level ``@njit(cache=True)`` functions (stable cache keys, compiled once per machine), each
+doing in one pass what the numpy version did in several whole-array passes and temporaries.
+Every kernel computes exactly what the numpy code it replaces computed (the meshes are pinned,
+`tests/meshing/test_mesh_digest.py`).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+__all__ = []
+
+#: Axis code of a vertex inside a cube (the same as `blocks.INTERIOR`).
+_INTERIOR = 3
+
+
+@numba.njit(cache=True, nogil=True)
+def take_block(verts, tri, values, b, xs, ys, zs, B, gx, gy, gz, stride, node, axis, f0, f1, shared, edge,
+               faces, vat, fat, eat):
+    """Append one block's marching-cubes output to the slab's buffers; returns the new fill counts.
+
+    `verts` (n, 3) float32 and `tri` (3 f,) int32 come straight from scikit-image's Cython
+    kernel: vertex columns in reversed axis order, triangles wound for ``ascent`` (reversed here
+    for ``descent``).  ``(xs, ys, zs)`` is the corner of the block's box inside the block,
+    ``(gx, gy, gz)`` the block's global lower node.  Each vertex gets the lower node of its
+    lattice edge and the axis (`_INTERIOR` for Lewiner's vertex inside a cube: the cube's lower
+    node), the samples at the edge's ends (`f1 = f0` inside a cube), whether it lies on an edge
+    in a block face (then its global edge id ``3 * node + axis`` is appended to `edge`).
+    """
+    n = verts.shape[0]
+    for i in range(n):
+        # skimage's columns reversed: c0 is axis 0
+        c0 = np.float64(verts[i, 2])
+        c1 = np.float64(verts[i, 1])
+        c2 = np.float64(verts[i, 0])
+        r0, r1, r2 = np.rint(c0), np.rint(c1), np.rint(c2)
+        d0, d1, d2 = abs(c0 - r0), abs(c1 - r1), abs(c2 - r2)
+        offs = (c0 != r0) + (c1 != r1) + (c2 != r2)
+        # np.argmax: the first of equal maxima
+        ax = 0
+        if d1 > d0:
+            ax = 1
+        if d2 > max(d0, d1):
+            ax = 2
+        if offs > 1:
+            lx, ly, lz = np.int64(np.floor(c0)), np.int64(np.floor(c1)), np.int64(np.floor(c2))
+            ax = _INTERIOR
+        else:
+            lx, ly, lz = np.int64(r0), np.int64(r1), np.int64(r2)
+            if ax == 0:
+                lx = np.int64(np.floor(c0))
+            elif ax == 1:
+                ly = np.int64(np.floor(c1))
+            else:
+                lz = np.int64(np.floor(c2))
+        lx += xs
+        ly += ys
+        lz += zs
+        j = vat + i
+        node[j, 0] = lx + gx
+        node[j, 1] = ly + gy
+        node[j, 2] = lz + gz
+        axis[j] = ax
+        a = values[b, lx, ly, lz]
+        f0[j] = a
+        if ax == 0:
+            f1[j] = values[b, lx + 1, ly, lz]
+        elif ax == 1:
+            f1[j] = values[b, lx, ly + 1, lz]
+        elif ax == 2:
+            f1[j] = values[b, lx, ly, lz + 1]
+        else:
+            f1[j] = a
+        sh = False
+        if ax != _INTERIOR:
+            if ax != 0 and (lx == 0 or lx == B):
+                sh = True
+            if ax != 1 and (ly == 0 or ly == B):
+                sh = True
+            if ax != 2 and (lz == 0 or lz == B):
+                sh = True
+        shared[j] = sh
+        if sh:
+            edge[eat] = (((lx + gx) * stride + (ly + gy)) * stride + (lz + gz)) * 3 + ax
+            eat += 1
+    nf = tri.shape[0] // 3
+    for f in range(nf):
+        faces[fat + f, 0] = tri[3 * f + 2] + vat
+        faces[fat + f, 1] = tri[3 * f + 1] + vat
+        faces[fat + f, 2] = tri[3 * f] + vat
+    return vat + n, fat + nf, eat
