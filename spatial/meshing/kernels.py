@@ -92,3 +92,51 @@ def take_block(verts, tri, values, b, xs, ys, zs, B, gx, gy, gz, stride, node, a
         faces[fat + f, 1] = tri[3 * f + 1] + vat
         faces[fat + f, 2] = tri[3 * f] + vat
     return vat + n, fat + nf, eat
+
+
+@numba.njit(cache=True, nogil=True)
+def part_index(shared, inverse, shared_at, private_at, n_private, index):
+    """Merged vertex of each of a part's vertices: its own slot among the private ones (in order
+    from `private_at`), or ``n_private + inverse`` for one shared by blocks."""
+    p = private_at
+    s = shared_at
+    for i in range(shared.shape[0]):
+        if shared[i]:
+            index[i] = n_private + inverse[s]
+            s += 1
+        else:
+            index[i] = p
+            p += 1
+
+
+@numba.njit(cache=True, nogil=True)
+def remap_faces(index, pfaces, faces, row):
+    """``faces[row:row + k] = index[pfaces]``."""
+    for f in range(pfaces.shape[0]):
+        for k in range(3):
+            faces[row + f, k] = index[pfaces[f, k]]
+
+
+def scatter_rows(out, index, arr):
+    """``out[index] = arr`` along the first axis; for a vertex found in two blocks both write the
+    same data."""
+    if arr.ndim == 1:
+        _scatter_1d(out, index, arr)
+    elif arr.ndim == 2:
+        _scatter_2d(out, index, arr)
+    else:
+        out[index] = arr
+
+
+@numba.njit(cache=True, nogil=True)
+def _scatter_1d(out, index, arr):
+    for i in range(arr.shape[0]):
+        out[index[i]] = arr[i]
+
+
+@numba.njit(cache=True, nogil=True)
+def _scatter_2d(out, index, arr):
+    for i in range(arr.shape[0]):
+        j = index[i]
+        for k in range(arr.shape[1]):
+            out[j, k] = arr[i, k]
