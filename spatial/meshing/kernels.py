@@ -140,3 +140,37 @@ def _scatter_2d(out, index, arr):
         j = index[i]
         for k in range(arr.shape[1]):
             out[j, k] = arr[i, k]
+
+
+@numba.njit(cache=True, nogil=True)
+def crossing_ends(sgn, flat, s_n, v_n, B):
+    """Needed nodes that end an edge of the blocks crossed by the surface (signs of opposite
+    strict signs) and still have no value.
+
+    `sgn` is the slab's dense int8 scratch array, ``(nb, B+1, B+1, B+1)`` flattened: it is
+    cleared and given the signs `s_n` of the needed nodes `flat` (0 elsewhere).
+    """
+    n1 = B + 1
+    sgn[:] = 0
+    for i in range(flat.shape[0]):
+        sgn[flat[i]] = s_n[i]
+    out = np.zeros(flat.shape[0], np.bool_)
+    steps = (n1 * n1, n1, 1)
+    for i in range(flat.shape[0]):
+        if not np.isnan(v_n[i]):
+            continue
+        s = sgn[flat[i]]
+        if s == 0:
+            continue
+        q = flat[i]
+        r = q % (n1 * n1 * n1)
+        pos = (r // (n1 * n1), (r // n1) % n1, r % n1)
+        hit = False
+        for ax in range(3):
+            st = steps[ax]
+            if pos[ax] > 0 and sgn[q - st] * s < 0:
+                hit = True
+            if pos[ax] < B and sgn[q + st] * s < 0:
+                hit = True
+        out[i] = hit
+    return out

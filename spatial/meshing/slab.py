@@ -7,7 +7,7 @@ import functools
 import numpy as np
 
 from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
-from .kernels import take_block
+from .kernels import crossing_ends, take_block
 
 __all__ = []
 
@@ -252,21 +252,9 @@ class _SlabJob:
         del t1, t1u, a, b
         # -- pass 2: the ends of crossing edges without a value -------------------------------
         # (before marching cubes, which resolves its ambiguous faces and cubes from the values)
-        sgn = code.view(np.int8)  # the codes are spent: their memory holds the signs
-        sgn[...] = 0
-        sgn.reshape(-1)[flat] = s_n
-        want = np.zeros(code.shape, dtype=bool)
-        for ax in (1, 2, 3):
-            lo_sl = [slice(None)] * 4
-            hi_sl = [slice(None)] * 4
-            lo_sl[ax] = slice(0, -1)
-            hi_sl[ax] = slice(1, None)
-            cross = (sgn[tuple(lo_sl)] * sgn[tuple(hi_sl)]) < 0
-            want[tuple(lo_sl)] |= cross
-            want[tuple(hi_sl)] |= cross
-        del cross, sgn, code
-        w_n = want.reshape(-1)[flat] & np.isnan(v_n)
-        del want
+        # (the codes are spent: their memory holds the signs)
+        w_n = crossing_ends(code.reshape(-1).view(np.int8), flat, s_n, v_n, B)
+        del code
         w_u = np.zeros(uniq.shape[0], dtype=bool)
         w_u[back[w_n[m_idx]]] = True
         w_s = w_n & single
