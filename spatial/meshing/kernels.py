@@ -174,3 +174,36 @@ def crossing_ends(sgn, flat, s_n, v_n, B):
                 hit = True
         out[i] = hit
     return out
+
+
+@numba.njit(cache=True, nogil=True)
+def ring_to_nodes(state, ry0, rz0, P, out):
+    """Node codes of every block from the cell states of its ring, ``out (nb, 2P+1, 2P+1, 2P+1)``.
+
+    Block ``b``'s ring is ``state[0:P+2, ry0[b]:ry0[b]+P+2, rz0[b]:rz0[b]+P+2]`` (cells -1 .. P
+    along each axis); node ``j`` along an axis lies in ring cells ``(j+1)//2`` and ``(j+2)//2``,
+    and takes the OR of the codes of all the ring cells holding it, one axis at a time.
+    """
+    n1 = 2 * P + 1
+    r = P + 2
+    tz = np.empty((r, r, n1), np.uint8)
+    ty = np.empty((r, n1, n1), np.uint8)
+    for b in range(out.shape[0]):
+        y0 = ry0[b]
+        z0 = rz0[b]
+        for i in range(r):
+            for j in range(r):
+                for k in range(n1):
+                    tz[i, j, k] = state[i, y0 + j, z0 + (k + 1) // 2] | state[i, y0 + j, z0 + (k + 2) // 2]
+        for i in range(r):
+            for j in range(n1):
+                ja = (j + 1) // 2
+                jb = (j + 2) // 2
+                for k in range(n1):
+                    ty[i, j, k] = tz[i, ja, k] | tz[i, jb, k]
+        for i in range(n1):
+            ia = (i + 1) // 2
+            ib = (i + 2) // 2
+            for j in range(n1):
+                for k in range(n1):
+                    out[b, i, j, k] = ty[ia, j, k] | ty[ib, j, k]

@@ -7,7 +7,7 @@ import functools
 import numpy as np
 
 from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
-from .kernels import crossing_ends, take_block
+from .kernels import crossing_ends, ring_to_nodes, take_block
 
 __all__ = []
 
@@ -106,19 +106,9 @@ class _SlabJob:
             sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
             state[idx[sel, 0] - xc, idx[sel, 1] - y0, idx[sel, 2] - z0] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
         state[sc[:, 0] - xc, sc[:, 1] - y0, sc[:, 2] - z0] = NEEDED
-        ry = (self.bys * P - 1 - y0)[:, None] + np.arange(P + 2)
-        rz = (self.bzs * P - 1 - z0)[:, None] + np.arange(P + 2)
-        rx = np.arange(P + 2)
-        out = state[rx[None, :, None, None], ry[:, None, :, None], rz[:, None, None, :]]  # (nb, P+2, P+2, P+2)
-        # cells -> nodes, axis by axis: node j lies in ring cells (j+1)//2 and (j+2)//2, i.e. between
-        # entries j+1 and j+2 of the ring repeated twice
-        for ax in (1, 2, 3):
-            twice = _repeat2(out, ax)
-            a_sl = [slice(None)] * 4
-            b_sl = [slice(None)] * 4
-            a_sl[ax] = slice(1, 2 * P + 2)
-            b_sl[ax] = slice(2, 2 * P + 3)
-            out = twice[tuple(a_sl)] | twice[tuple(b_sl)]
+        out = np.empty((self.nb,) + (2 * P + 1,) * 3, dtype=np.uint8)
+        ring_to_nodes(state, (self.bys * P - 1 - y0).astype(np.int64), (self.bzs * P - 1 - z0).astype(np.int64), P,
+                      out)
         return out
 
     def _known_in_blocks(self, extra):
