@@ -207,3 +207,55 @@ def ring_to_nodes(state, ry0, rz0, P, out):
             for j in range(n1):
                 for k in range(n1):
                     out[b, i, j, k] = ty[ia, j, k] | ty[ib, j, k]
+
+
+@numba.njit(cache=True, nogil=True)
+def edge_points(nodes, axis, origin, h, rows, active, t, q):
+    """``q[m] = origin + (nodes[r] + t[i] e_axis[r]) h`` for ``i = active[m]``, ``r = rows[i]``
+    (the point at parameter `t` along each active vertex's edge)."""
+    for m in range(active.shape[0]):
+        i = active[m]
+        r = rows[i]
+        for k in range(3):
+            q[m, k] = nodes[r, k] * h + origin[k]
+        q[m, axis[r]] += t[i] * h
+
+
+@numba.njit(cache=True, nogil=True)
+def illinois_step(active, ft, t, a, b, fa, fb, side, step, tol_h, accept_h):
+    """One Illinois regula-falsi update of the active vertices from their values `ft`, in place;
+    returns the vertices still active (value above `accept_h`).
+
+    A vertex with ``|f| <= tol_h`` keeps its parameter; one with ``|f| <= accept_h`` takes this
+    last update and stops.
+    """
+    keep = np.empty(active.shape[0], np.int64)
+    n = 0
+    for m in range(active.shape[0]):
+        f = ft[m]
+        if not abs(f) > tol_h:
+            continue
+        i = active[m]
+        ta = t[i]
+        left = (f > 0) == (fa[i] > 0)
+        if left:
+            aa, ba, nfa, nfb = ta, b[i], f, fb[i]
+        else:
+            aa, ba, nfa, nfb = a[i], ta, fa[i], f
+        if step:  # Illinois: halve the value of an end kept twice in a row
+            if left and side[i] == 1:
+                nfb = 0.5 * nfb
+            if not left and side[i] == -1:
+                nfa = 0.5 * nfa
+        denom = nfb - nfa
+        if denom != 0:
+            tn = (aa * nfb - ba * nfa) / denom
+        else:
+            tn = 0.5 * (aa + ba)
+        t[i] = min(max(tn, aa), ba)
+        a[i], b[i], fa[i], fb[i] = aa, ba, nfa, nfb
+        side[i] = 1 if left else -1
+        if abs(f) > accept_h:
+            keep[n] = i
+            n += 1
+    return keep[:n]
