@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import functools
+import queue
+import sys
+import threading
 
 import numpy as np
 
@@ -144,8 +147,10 @@ class _SlabJob:
                     flat[at + off] |= s
         flat[base] |= gs
 
-    def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
-        """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
+    def prepare(self, sc, given, ring, centre_infer, handoff, extra=None):
+        """Sample the slab's nodes: ``(cells, values (nb, B+1, B+1, B+1), evaluations, handoff)``,
+        what `mesh` takes.  Needs only the previous slab's handoff, not its mesh, so the next slab
+        can be prepared while this one is meshed."""
         B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
         cells = self._blocks(sc)
         code = self._node_codes(sc, *ring) if c == 2 else self._needed(cells).view(np.uint8)
@@ -265,15 +270,23 @@ class _SlabJob:
         values = np.ones(self.nb * (B + 1) ** 3, dtype=np.float32)
         values[flat] = placeholder
         del placeholder
-        raw = self._mesh_blocks(cells, values.reshape(self.nb, B + 1, B + 1, B + 1))
-        if raw is not None:
-            parts.append(raw)
-        del raw
-        del values
+        del v_u
         # the upper plane goes to the next slab (values NaN where only the sign is known)
         hid, first = np.unique(ids(top), return_index=True)
         handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
+        return cells, values.reshape(self.nb, B + 1, B + 1, B + 1), spent, handoff
+
+    def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
+        """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
+        cells, values, spent, handoff = self.prepare(sc, given, ring, centre_infer, handoff, extra)
+        self.mesh(cells, values, parts)
         return self.nb, spent, handoff
+
+    def mesh(self, cells, values, parts):
+        """Marching cubes of the prepared slab (`prepare`), its part appended to `parts`."""
+        raw = self._mesh_blocks(cells, values)
+        if raw is not None:
+            parts.append(raw)
 
     def _mesh_blocks(self, cells, values):
         """Marching cubes on every active block of the slab: the slab's part for `merge_blocks`
@@ -374,6 +387,77 @@ def _marching_cubes_raw(values, mask):
 
 
 _LUTS = _MC = None
+
+
+def run_slabs(tasks, parts, overlap=False):
+    """Prepare and mesh slabs in order; yields ``(blocks meshed, evaluations)`` per slab.
+
+    `tasks` yields ``(job, (cells, given, ring, centre_infer, extra))``; each slab's preparation
+    takes the previous one's handoff.  With `overlap`, a worker thread prepares slab ``k + 1``
+    (compiled, GIL-free evaluation and bookkeeping for the most part) while this thread runs
+    scikit-image's marching cubes on slab ``k`` (which holds the GIL): the two cores share the
+    work.  At most one prepared slab waits, so memory grows by one slab's arrays.  The parts
+    and counts are the same either way.
+    """
+    if not overlap:
+        handoff = None
+        for job, (sc, given, ring, centre_infer, extra) in tasks:
+            cells, values, spent, handoff = job.prepare(sc, given, ring, centre_infer, handoff, extra)
+            job.mesh(cells, values, parts)
+            yield job.nb, spent
+        return
+    ready = queue.Queue(maxsize=1)
+    stop = threading.Event()
+
+    def put(item):
+        while not stop.is_set():
+            try:
+                ready.put(item, timeout=0.1)
+                return True
+            except queue.Full:
+                continue
+        return False
+
+    def work():
+        try:
+            handoff = None
+            for job, (sc, given, ring, centre_infer, extra) in tasks:
+                if stop.is_set():
+                    return
+                cells, values, spent, handoff = job.prepare(sc, given, ring, centre_infer, handoff, extra)
+                if not put((job, cells, values, spent)):
+                    return
+                del cells, values
+            put(None)
+        except BaseException as exc:  # handed to the meshing thread, raised there
+            put(exc)
+
+    worker = threading.Thread(target=work, name="implicad-slab-prepare", daemon=True)
+    # frequent hand-overs of the GIL: the worker's Python steps between its compiled calls should
+    # not wait out the default 5 ms while marching cubes runs block after block
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(min(interval, SWITCH_INTERVAL))
+    worker.start()
+    try:
+        while True:
+            item = ready.get()
+            if item is None:
+                break
+            if isinstance(item, BaseException):
+                raise item
+            job, cells, values, spent = item
+            del item
+            job.mesh(cells, values, parts)
+            del cells, values
+            yield job.nb, spent
+    finally:
+        stop.set()
+        worker.join()
+        sys.setswitchinterval(interval)
+
+
+#: GIL switch interval (s) while slabs are prepared beside marching cubes.
+SWITCH_INTERVAL = 5e-4
 
 
 @functools.lru_cache(maxsize=8)
