@@ -148,32 +148,60 @@ def crossing_ends(sgn, flat, s_n, v_n, B):
     strict signs) and still have no value.
 
     `sgn` is the slab's dense int8 scratch array, ``(nb, B+1, B+1, B+1)`` flattened: it is
-    cleared and given the signs `s_n` of the needed nodes `flat` (0 elsewhere).
+    cleared and given the signs `s_n` of the needed nodes `flat` (sorted; 0 elsewhere).  The
+    nodes are walked row by row (a row: fixed block, x and y), so their coordinates come without
+    divisions.
     """
     n1 = B + 1
     sgn[:] = 0
     for i in range(flat.shape[0]):
         sgn[flat[i]] = s_n[i]
     out = np.zeros(flat.shape[0], np.bool_)
-    steps = (n1 * n1, n1, 1)
-    for i in range(flat.shape[0]):
-        if not np.isnan(v_n[i]):
+    nb = sgn.shape[0] // (n1 * n1 * n1)
+    sx = n1 * n1
+    i = 0
+    m = flat.shape[0]
+    for row in range(nb * n1 * n1):
+        if i >= m:
+            break
+        start = row * n1
+        if flat[i] >= start + n1:
             continue
-        s = sgn[flat[i]]
-        if s == 0:
-            continue
-        q = flat[i]
-        r = q % (n1 * n1 * n1)
-        pos = (r // (n1 * n1), (r // n1) % n1, r % n1)
-        hit = False
-        for ax in range(3):
-            st = steps[ax]
-            if pos[ax] > 0 and sgn[q - st] * s < 0:
-                hit = True
-            if pos[ax] < B and sgn[q + st] * s < 0:
-                hit = True
-        out[i] = hit
+        y = row % n1
+        x = (row // n1) % n1
+        while i < m and flat[i] < start + n1:
+            q = flat[i]
+            s = sgn[q]
+            if s != 0 and np.isnan(v_n[i]):
+                z = q - start
+                hit = False
+                if z > 0 and sgn[q - 1] * s < 0:
+                    hit = True
+                elif z < B and sgn[q + 1] * s < 0:
+                    hit = True
+                elif y > 0 and sgn[q - n1] * s < 0:
+                    hit = True
+                elif y < B and sgn[q + n1] * s < 0:
+                    hit = True
+                elif x > 0 and sgn[q - sx] * s < 0:
+                    hit = True
+                elif x < B and sgn[q + sx] * s < 0:
+                    hit = True
+                out[i] = hit
+            i += 1
     return out
+
+
+@numba.njit(cache=True, nogil=True)
+def fill_values(values, flat, v_n, s_n, scale):
+    """The slab's dense samples for marching cubes, in place: 1 at unused nodes, the value at
+    sampled ones, ``sign * scale`` where only the sign is known."""
+    values[:] = np.float32(1.0)
+    for i in range(flat.shape[0]):
+        v = v_n[i]
+        if np.isnan(v):
+            v = np.float32(s_n[i]) * scale
+        values[flat[i]] = v
 
 
 @numba.njit(cache=True, nogil=True)

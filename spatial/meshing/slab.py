@@ -10,7 +10,7 @@ import threading
 import numpy as np
 
 from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
-from .kernels import crossing_ends, ring_to_nodes, take_block
+from .kernels import crossing_ends, fill_values, ring_to_nodes, take_block
 
 __all__ = []
 
@@ -261,15 +261,9 @@ class _SlabJob:
         v_n[m_idx] = v_u[back]
         del w_s, w_u, a, b
         # -- marching cubes: a sign-only node gets +-L h, an unused node 1 ------------------
-        placeholder = v_n.copy()
-        missing = np.isnan(v_n)
-        if missing.any():
-            scale = np.float32(self.lip * h if self.lip else h)
-            placeholder[missing] = s_n[missing].astype(np.float32) * scale
-        del missing
-        values = np.ones(self.nb * (B + 1) ** 3, dtype=np.float32)
-        values[flat] = placeholder
-        del placeholder
+        scale = np.float32(self.lip * h if self.lip else h)
+        values = np.empty(self.nb * (B + 1) ** 3, dtype=np.float32)
+        fill_values(values, flat, v_n, s_n, scale)
         del v_u
         # the upper plane goes to the next slab (values NaN where only the sign is known)
         hid, first = np.unique(ids(top), return_index=True)
