@@ -287,3 +287,18 @@ def illinois_step(active, ft, t, a, b, fa, fb, side, step, tol_h, accept_h):
             keep[n] = i
             n += 1
     return keep[:n]
+
+
+@numba.njit(cache=True, nogil=True)
+def infer_around(code, base, gs, mag, steps, thresholds):
+    """OR the sign bits `gs` of sampled nodes (flat positions `base`) into their own code and into
+    the codes of the neighbours ``base + steps[o]`` whose threshold they exceed (``mag >
+    thresholds[o]``: farther from the level than the Lipschitz bound to that neighbour)."""
+    for j in range(base.shape[0]):
+        p = base[j]
+        g = gs[j]
+        m = mag[j]
+        for o in range(steps.shape[0]):
+            if m > thresholds[o]:
+                code[p + steps[o]] |= g
+        code[p] |= g

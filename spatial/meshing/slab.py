@@ -10,7 +10,7 @@ import threading
 import numpy as np
 
 from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
-from .kernels import crossing_ends, fill_values, ring_to_nodes, take_block
+from .kernels import crossing_ends, fill_values, infer_around, ring_to_nodes, take_block
 
 __all__ = []
 
@@ -48,7 +48,12 @@ class _SlabJob:
         P = self.P
         by = sc[:, 1] // P
         bz = sc[:, 2] // P
-        keys, inv = np.unique(by * self.nbz + bz, return_inverse=True)
+        # the keys are few (nbz**2): unique keys and inverse by counting instead of sorting
+        key = by * self.nbz + bz
+        present = np.bincount(key, minlength=self.nbz * self.nbz) > 0
+        keys = np.flatnonzero(present).astype(key.dtype)
+        rank = np.cumsum(present) - 1
+        inv = rank[key]
         self.keys = keys
         self.bys, self.bzs = np.divmod(keys, self.nbz)
         self.nb = keys.shape[0]
@@ -138,14 +143,11 @@ class _SlabJob:
         base = ((b_.astype(np.int64) * n + x_) * n + y_) * n + z_
         flat = code.reshape(-1)
         step = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1)
+        # float32 values: a margin for their rounding
+        thresholds = np.empty(step.shape[0], dtype=np.float32)
         for d in np.unique(_NEIGHBOUR_DIST):
-            # float32 values: a margin for their rounding
-            far = np.flatnonzero(mag > np.float32(self.lip * d * self.h * (1 + 1e-6)))
-            if far.size:
-                at, s = base[far], gs[far]
-                for off in step[_NEIGHBOUR_DIST == d]:
-                    flat[at + off] |= s
-        flat[base] |= gs
+            thresholds[_NEIGHBOUR_DIST == d] = np.float32(self.lip * d * self.h * (1 + 1e-6))
+        infer_around(flat, base, gs, mag, step.astype(np.int64), thresholds)
 
     def prepare(self, sc, given, ring, centre_infer, handoff, extra=None):
         """Sample the slab's nodes: ``(cells, values (nb, B+1, B+1, B+1), evaluations, handoff)``,
