@@ -12,6 +12,7 @@ from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _settle_ties, _
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharpen
 from .refine import _certified, _refine_on_edges
+from .kernels import place_vertices
 from .slab import _SlabJob, run_slabs
 
 __all__ = ["mesh_cells"]
@@ -198,16 +199,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     _release_free_memory()
     if edge_ids:
         ids = ((nodes[:, 0].astype(np.int64) * stride + nodes[:, 1]) * stride + nodes[:, 2]) * 3 + axis
-    p0 = np.empty(nodes.shape, dtype=np.float64)
-    p0[...] = nodes
-    del nodes
-    p0 *= h
-    p0 += origin
-    t *= h
-    along = np.arange(0, 3 * p0.shape[0], 3, dtype=np.int32 if 3 * p0.shape[0] < 2 ** 31 else np.int64)
-    along += axis
-    p0.reshape(-1)[along] += t
-    del t, axis, along
+    p0 = place_vertices(nodes, axis, t, h, origin)
+    del nodes, t, axis
     if inner.size:
         _centre_inner(p0, faces, inner)
     if features:

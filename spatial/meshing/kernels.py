@@ -302,3 +302,32 @@ def infer_around(code, base, gs, mag, steps, thresholds):
             if m > thresholds[o]:
                 code[p + steps[o]] |= g
         code[p] |= g
+
+
+@numba.njit(cache=True, nogil=True)
+def block_boxes(inv, lx, ly, lz, nb, P):
+    """Per block, the box ``[lows, highs)`` (cell units, block-local) of its cells ``(lx, ly, lz)``
+    (block `inv`); ``(P, P, P)`` / ``(0, 0, 0)`` for a block without cells."""
+    lows = np.full((nb, 3), P, np.int64)
+    highs = np.zeros((nb, 3), np.int64)
+    for i in range(inv.shape[0]):
+        b = inv[i]
+        lows[b, 0] = min(lows[b, 0], lx[i])
+        lows[b, 1] = min(lows[b, 1], ly[i])
+        lows[b, 2] = min(lows[b, 2], lz[i])
+        highs[b, 0] = max(highs[b, 0], lx[i] + 1)
+        highs[b, 1] = max(highs[b, 1], ly[i] + 1)
+        highs[b, 2] = max(highs[b, 2], lz[i] + 1)
+    return lows, highs
+
+
+@numba.njit(cache=True, nogil=True)
+def place_vertices(nodes, axis, t, h, origin):
+    """Vertex positions ``origin + nodes * h`` moved ``t * h`` along their edge's axis."""
+    n = nodes.shape[0]
+    p = np.empty((n, 3))
+    for i in range(n):
+        for k in range(3):
+            p[i, k] = nodes[i, k] * h + origin[k]
+        p[i, axis[i]] += t[i] * h
+    return p

@@ -10,7 +10,7 @@ import threading
 import numpy as np
 
 from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
-from .kernels import crossing_ends, fill_values, infer_around, ring_to_nodes, take_block
+from .kernels import block_boxes, crossing_ends, fill_values, infer_around, ring_to_nodes, take_block
 
 __all__ = []
 
@@ -289,12 +289,7 @@ class _SlabJob:
         (global edge ids of the vertices in block faces, their mask, ``(node, axis, f0, f1)``,
         faces), or None."""
         B, c, x0, stride = self.B, self.c, self.x0, self.stride
-        inv = self.cl[0]
-        local = np.stack(self.cl[1:], axis=1)
-        lows = np.full((self.nb, 3), self.P, dtype=np.int64)
-        highs = np.zeros((self.nb, 3), dtype=np.int64)
-        np.minimum.at(lows, inv, local)
-        np.maximum.at(highs, inv, local + 1)
+        lows, highs = block_boxes(*self.cl, self.nb, self.P)
         # the voxels of the cells, for the whole slab at once
         voxels = cells
         if c == 2:
