@@ -331,3 +331,40 @@ def place_vertices(nodes, axis, t, h, origin):
             p[i, k] = nodes[i, k] * h + origin[k]
         p[i, axis[i]] += t[i] * h
     return p
+
+
+@numba.njit(cache=True, nogil=True)
+def node_points(flat, rows, B, x0, ybase, zbase, origin, h):
+    """Positions of the slab's needed nodes ``flat[rows]`` (flat positions in the blocks' arrays;
+    block `b` starts at global node ``(x0, ybase[b], zbase[b])``)."""
+    n1 = B + 1
+    pts = np.empty((rows.shape[0], 3))
+    for m in range(rows.shape[0]):
+        q = np.int64(flat[rows[m]])
+        b = q // (n1 * n1 * n1)
+        r = q - b * (n1 * n1 * n1)
+        x = r // (n1 * n1)
+        r -= x * (n1 * n1)
+        y = r // n1
+        z = r - y * n1
+        pts[m, 0] = origin[0] + (x + x0) * h
+        pts[m, 1] = origin[1] + (ybase[b] + y) * h
+        pts[m, 2] = origin[2] + (zbase[b] + z) * h
+    return pts
+
+
+@numba.njit(cache=True, nogil=True)
+def node_ids(flat, rows, B, x0, ybase, zbase, stride):
+    """Global ids ``(x * stride + y) * stride + z`` of the slab's needed nodes ``flat[rows]``."""
+    n1 = B + 1
+    out = np.empty(rows.shape[0], np.int64)
+    for m in range(rows.shape[0]):
+        q = np.int64(flat[rows[m]])
+        b = q // (n1 * n1 * n1)
+        r = q - b * (n1 * n1 * n1)
+        x = r // (n1 * n1)
+        r -= x * (n1 * n1)
+        y = r // n1
+        z = r - y * n1
+        out[m] = ((x + x0) * stride + (ybase[b] + y)) * stride + (zbase[b] + z)
+    return out

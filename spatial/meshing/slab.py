@@ -10,7 +10,8 @@ import threading
 import numpy as np
 
 from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
-from .kernels import block_boxes, crossing_ends, fill_values, infer_around, ring_to_nodes, take_block
+from .kernels import (block_boxes, crossing_ends, fill_values, infer_around, node_ids, node_points, ring_to_nodes,
+                      take_block)
 
 __all__ = []
 
@@ -178,19 +179,11 @@ class _SlabJob:
         maybe = _shared_nodes(B)[rest]
         top = np.flatnonzero(rest >= B * (B + 1) ** 2)  # the upper x plane, handed to the next slab
         del rest
-        y_base = (self.bys * B).astype(itype)
-        z_base = (self.bzs * B).astype(itype)
-
-        def where_(rows):
-            """Slab x, global y and z of the needed nodes `rows` (only the few that need them)."""
-            b_, r_ = np.divmod(flat[rows], itype(n3))
-            x_, r_ = np.divmod(r_, itype((B + 1) ** 2))
-            y_, z_ = np.divmod(r_, itype(B + 1))
-            return x_, y_base[b_] + y_, z_base[b_] + z_
+        y_base = (self.bys * B).astype(np.int64)
+        z_base = (self.bzs * B).astype(np.int64)
 
         def ids(rows):
-            x_, y_, z_ = where_(rows)
-            return ((x_.astype(np.int64) + x0) * stride + y_) * stride + z_
+            return node_ids(flat, rows, B, int(x0), y_base, z_base, int(stride))
 
         s_n = code.reshape(-1)[flat]
         s_n = ((s_n >> 1) & 1).astype(np.int8) - ((s_n >> 2) & 1).astype(np.int8)
@@ -221,12 +214,7 @@ class _SlabJob:
         def sample(sel_single, sel_unique):
             """Evaluate the chosen single nodes and unique merged nodes in one call."""
             pick = np.concatenate([np.flatnonzero(sel_single), m_idx[ufirst[sel_unique]]])
-            x_, y_, z_ = where_(pick)
-            pts = np.empty((pick.shape[0], 3))
-            pts[:, 0] = self.origin[0] + (x_ + x0) * h
-            pts[:, 1] = self.origin[1] + y_ * h
-            pts[:, 2] = self.origin[2] + z_ * h
-            del x_, y_, z_
+            pts = node_points(flat, pick, B, int(x0), y_base, z_base, np.asarray(self.origin, dtype=np.float64), h)
             if not pick.shape[0]:
                 return np.empty(0, np.float32), np.empty(0, np.float32), 0
             vals = _evaluate(self.solid, pts)
