@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .arrays import _release_free_memory
 from .kernels import part_index, remap_faces, scatter_rows
 
 __all__ = ["mesh_block", "merge_blocks", "check_block", "INTERIOR"]
@@ -155,6 +156,8 @@ def merge_blocks(parts):
             scatter_rows(out, index, np.ascontiguousarray(arr))
         k = pfaces.shape[0]
         remap_faces(index, pfaces, faces, row)
+        del sh, pdata, pfaces, index
+        _release_free_memory()  # the part's pages back to the system as the merged arrays fill
         row += k
         private_at += k_pr
         shared_at += k_sh

@@ -9,7 +9,7 @@ import threading
 
 import numpy as np
 
-from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
+from .arrays import _evaluate, _nudge, _release_free_memory, _repeat2, _settle_ties
 from .kernels import (block_boxes, crossing_ends, fill_values, infer_around, node_ids, node_points, ring_to_nodes,
                       take_block)
 
@@ -267,10 +267,13 @@ class _SlabJob:
         return self.nb, spent, handoff
 
     def mesh(self, cells, values, parts):
-        """Marching cubes of the prepared slab (`prepare`), its part appended to `parts`."""
+        """Marching cubes of the prepared slab (`prepare`), its part appended to `parts`; returns the
+        number of vertices made."""
         raw = self._mesh_blocks(cells, values)
-        if raw is not None:
-            parts.append(raw)
+        if raw is None:
+            return 0
+        parts.append(raw)
+        return raw[1].shape[0]
 
     def _mesh_blocks(self, cells, values):
         """Marching cubes on every active block of the slab: the slab's part for `merge_blocks`
@@ -340,10 +343,12 @@ class _SlabBuffers:
 
     def part(self):
         v, f, e = self.vat, self.fat, self.eat
-        # copies: the buffers' spare room is not kept alive by the part
-        return (self.edge[:e].copy(), self.shared[:v].copy(),
-                (self.node[:v].copy(), self.axis[:v].copy(), self.f0[:v].copy(), self.f1[:v].copy()),
-                self.faces[:f].copy())
+
+        def trim(arr, n):
+            return arr[:n].copy()  # the buffers' spare room is not kept alive by the part
+
+        return (trim(self.edge, e), trim(self.shared, v),
+                (trim(self.node, v), trim(self.axis, v), trim(self.f0, v), trim(self.f1, v)), trim(self.faces, f))
 
 
 class _Old:
@@ -380,9 +385,16 @@ def run_slabs(tasks, parts, overlap=False):
     """
     if not overlap:
         handoff = None
+        made = 0
         for job, (sc, given, ring, centre_infer, extra) in tasks:
             cells, values, spent, handoff = job.prepare(sc, given, ring, centre_infer, handoff, extra)
-            job.mesh(cells, values, parts)
+            # neighbouring slabs make about as many vertices: buffers sized from the last one
+            job.capacity_hint = max(job.capacity_hint, made + made // 4)
+            made = job.mesh(cells, values, parts)
+            del cells, values
+            # the slab's temporaries go back to the system before the next slab's are made:
+            # otherwise the heap they leave fragmented adds to the peak under the growing parts
+            _release_free_memory()
             yield job.nb, spent
         return
     ready = queue.Queue(maxsize=1)
