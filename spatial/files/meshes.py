@@ -82,24 +82,27 @@ def save_mesh(mesh, path) -> str:
     return atomic_write(path, write, ext)
 
 
-def _write_binary_stl(mesh, path):
+def _write_binary_stl(mesh, path, chunk=1 << 17):
     """Binary STL of a triangle mesh straight from its arrays (unit facet normals from the
-    winding): the layout VTK's writer produces, several times faster than going through it."""
+    winding): the layout VTK's writer produces, several times faster than going through it.
+    Written in chunks of triangles, so the temporaries stay small."""
     points = np.asarray(mesh.points, dtype=np.float64)
     tri = np.asarray(mesh.faces).reshape(-1, 4)[:, 1:]
-    rec = np.zeros(tri.shape[0], dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attr", "<u2")])
-    corners = points[tri]
-    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    length = np.sqrt(np.einsum("ij,ij->i", normal, normal))
-    np.divide(normal, length[:, None], out=normal, where=length[:, None] > 0)
-    normal[length == 0] = 0.0
-    rec["normal"] = normal
-    rec["corners"] = corners
-    del corners, normal
+    rec = np.zeros(min(chunk, tri.shape[0]), dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)),
+                                                     ("attr", "<u2")])
     with open(path, "wb") as fh:
         fh.write(b"Binary STL written by implicad".ljust(80, b" "))
         fh.write(np.uint32(tri.shape[0]).tobytes())
-        rec.tofile(fh)
+        for a in range(0, tri.shape[0], chunk):
+            corners = points[tri[a:a + chunk]]
+            normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+            length = np.sqrt(np.einsum("ij,ij->i", normal, normal))
+            np.divide(normal, length[:, None], out=normal, where=length[:, None] > 0)
+            normal[length == 0] = 0.0
+            part = rec[:corners.shape[0]]
+            part["normal"] = normal
+            part["corners"] = corners
+            part.tofile(fh)
 
 
 def load_mesh(path):
