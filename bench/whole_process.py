@@ -32,7 +32,7 @@ from spatial import mesh
 part = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
     - cylinder(0.5, 4, axis=(0, 0, 1))
 t0 = time.perf_counter()
-m = mesh(part, resolution={n}, progress=False)
+m = mesh(part, resolution={n}, progress=False, features=False)
 print(json.dumps(dict(mesh=time.perf_counter() - t0, triangles=int(m.n_cells), volume=float(m.volume))))
 """
 

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import os
 
+import numpy as np
+
 from .atomic import atomic_write
 
 __all__ = ["MESH_FORMATS", "save_mesh", "load_mesh", "mesh_format"]
@@ -70,12 +72,37 @@ def save_mesh(mesh, path) -> str:
                          "a feature thinner than the voxel size may have vanished)")
 
     def write(tmp):
-        if ext == ".obj":
+        if ext == ".stl" and mesh.is_all_triangles:
+            _write_binary_stl(mesh, tmp)
+        elif ext == ".obj":
             mesh.save(tmp)
         else:
             mesh.save(tmp, binary=True)
 
     return atomic_write(path, write, ext)
+
+
+def _write_binary_stl(mesh, path, chunk=1 << 17):
+    """Binary STL of a triangle mesh straight from its arrays (unit facet normals from the
+    winding): the layout VTK's writer produces, several times faster than going through it.
+    Written in chunks of triangles, so the temporaries stay small."""
+    points = np.asarray(mesh.points, dtype=np.float64)
+    tri = np.asarray(mesh.faces).reshape(-1, 4)[:, 1:]
+    rec = np.zeros(min(chunk, tri.shape[0]), dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)),
+                                                     ("attr", "<u2")])
+    with open(path, "wb") as fh:
+        fh.write(b"Binary STL written by implicad".ljust(80, b" "))
+        fh.write(np.uint32(tri.shape[0]).tobytes())
+        for a in range(0, tri.shape[0], chunk):
+            corners = points[tri[a:a + chunk]]
+            normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+            length = np.sqrt(np.einsum("ij,ij->i", normal, normal))
+            np.divide(normal, length[:, None], out=normal, where=length[:, None] > 0)
+            normal[length == 0] = 0.0
+            part = rec[:corners.shape[0]]
+            part["normal"] = normal
+            part["corners"] = corners
+            part.tofile(fh)
 
 
 def load_mesh(path):

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from .arrays import _release_free_memory
+from .kernels import part_index, remap_faces, scatter_rows
+
 __all__ = ["mesh_block", "merge_blocks", "check_block", "INTERIOR"]
 
 
@@ -148,13 +151,13 @@ def merge_blocks(parts):
         k_sh = int(np.count_nonzero(sh))
         k_pr = sh.shape[0] - k_sh
         index = np.empty(sh.shape[0], dtype=itype)
-        index[~sh] = np.arange(private_at, private_at + k_pr, dtype=itype)
-        index[sh] = n_private + inverse[shared_at:shared_at + k_sh]
+        part_index(sh, inverse, shared_at, private_at, n_private, index)
         for out, arr in zip(data, pdata):
-            out[private_at:private_at + k_pr] = arr[~sh]
-            out[index[sh]] = arr[sh]
+            scatter_rows(out, index, np.ascontiguousarray(arr))
         k = pfaces.shape[0]
-        faces[row:row + k] = index[pfaces]
+        remap_faces(index, pfaces, faces, row)
+        del sh, pdata, pfaces, index
+        _release_free_memory()  # the part's pages back to the system as the merged arrays fill
         row += k
         private_at += k_pr
         shared_at += k_sh

@@ -12,7 +12,8 @@ from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _settle_ties, _
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharpen
 from .refine import _certified, _refine_on_edges
-from .slab import _SlabJob
+from .kernels import place_vertices
+from .slab import _SlabJob, run_slabs
 
 __all__ = ["mesh_cells"]
 
@@ -132,9 +133,9 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
 
     parts = []
     n_blocks = 0
-    handoff = None  # (slab, sorted node ids, values, signs) of the previous slab's upper node plane
     bar = progress_bar(len(slab_starts), "mesh", progress, unit="slab")
-    try:
+
+    def tasks():
         for s0, s1 in zip(slab_starts, slab_ends):
             slab = int(slab_of[s0])
             job = _SlabJob(solid, origin, h, c, block, slab, stride, lip if usable else None)
@@ -153,15 +154,17 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
                 # nodes strictly inside the slab (those on its planes are shared: not worth merging)
                 a, b = np.searchsorted(known_x, [slab * block + 1, (slab + 1) * block])
                 extra = (known[0][a:b], known[1][a:b])
-            nb, spent, handoff = job.run(cells[s0:s1], given, (ring, ring_parents), centre_infer, handoff, parts,
-                                         extra)
+            yield job, (cells[s0:s1], given, (ring, ring_parents), centre_infer, extra)
+
+    try:
+        for nb, spent in run_slabs(tasks(), parts):
             n_blocks += nb
             evaluations += spent
             bar.update()
     finally:
         bar.close()
     n_cells = int(cells.shape[0])
-    del cells, slab_of, centre_values, uniform, parents, known, handoff, uniform_x, parents_x, known_x
+    del cells, slab_of, centre_values, uniform, parents, known, uniform_x, parents_x, known_x
     _release_free_memory()
     data, faces = merge_blocks(parts)
     del parts
@@ -196,16 +199,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     _release_free_memory()
     if edge_ids:
         ids = ((nodes[:, 0].astype(np.int64) * stride + nodes[:, 1]) * stride + nodes[:, 2]) * 3 + axis
-    p0 = np.empty(nodes.shape, dtype=np.float64)
-    p0[...] = nodes
-    del nodes
-    p0 *= h
-    p0 += origin
-    t *= h
-    along = np.arange(0, 3 * p0.shape[0], 3, dtype=np.int32 if 3 * p0.shape[0] < 2 ** 31 else np.int64)
-    along += axis
-    p0.reshape(-1)[along] += t
-    del t, axis, along
+    p0 = place_vertices(nodes, axis, t, h, origin)
+    del nodes, t, axis
     if inner.size:
         _centre_inner(p0, faces, inner)
     if features:

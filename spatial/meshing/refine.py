@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .arrays import EVAL_CHUNK, REFINE_ACCEPT, REFINE_STEPS, REFINE_TOL, ZERO_NUDGE
+from .kernels import edge_points, illinois_step
 
 __all__ = []
 
@@ -46,53 +47,31 @@ def _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows=None, steps=
     in place.  Returns the number of evaluations spent.
     """
     rows = np.arange(t.shape[0]) if rows is None else np.asarray(rows)
+    origin = np.asarray(origin, dtype=np.float64)
     spent = 0
     for s0 in range(0, rows.shape[0], chunk):
         sl = rows[s0:s0 + chunk]
-        p0 = nodes[sl] * h + origin
-        t[sl], used = _refine_chunk(solid, p0, axis[sl], h, t[sl], f0[sl], f1[sl], steps, tol, accept)
+        t[sl], used = _refine_chunk(solid, nodes, axis, origin, sl, h, t[sl], f0[sl], f1[sl], steps, tol, accept)
         spent += used
     return spent
 
 
-def _refine_chunk(solid, p0, axis, h, t, fa, fb, steps, tol, accept):
+def _refine_chunk(solid, nodes, axis, origin, rows, h, t, fa, fb, steps, tol, accept):
     n = t.shape[0]
-    t = t.copy()
+    t = t.astype(np.float64)  # a copy
     a = np.zeros(n)
     b = np.ones(n)
     fa = fa.astype(np.float64)
     fb = fb.astype(np.float64)
     side = np.zeros(n, dtype=np.int8)
-    active = np.arange(n)
+    active = np.arange(n, dtype=np.int64)
+    q = np.empty((n, 3))
     spent = 0
     for step in range(steps):
         if active.size == 0:
             break
-        if step == 0:  # every vertex: no gathers
-            q = p0.copy()
-            q.reshape(-1)[3 * active + axis] += t * h
-        else:
-            q = p0[active]
-            q[np.arange(active.size), axis[active]] += t[active] * h
-        ft = solid(q)
+        edge_points(nodes, axis, origin, h, rows, active, t, q)
+        ft = solid(q[:active.size])
         spent += active.size
-        busy = np.abs(ft) > tol * h
-        active, ft = active[busy], ft[busy]
-        ta, aa, ba, fa_, fb_, sd = t[active], a[active], b[active], fa[active], fb[active], side[active]
-        left = (ft > 0) == (fa_ > 0)
-        # the root lies in [t, b] when f(t) has the sign of f(a)
-        aa = np.where(left, ta, aa)
-        ba = np.where(left, ba, ta)
-        new_fa = np.where(left, ft, fa_)
-        new_fb = np.where(left, fb_, ft)
-        if step:  # Illinois: halve the value of an end kept twice in a row (no end is, at the first step)
-            new_fb = np.where(left & (sd == 1), 0.5 * new_fb, new_fb)
-            new_fa = np.where(~left & (sd == -1), 0.5 * new_fa, new_fa)
-        denom = new_fb - new_fa
-        ok = denom != 0
-        t_new = np.where(ok, (aa * new_fb - ba * new_fa) / np.where(ok, denom, 1.0), 0.5 * (aa + ba))
-        t[active] = np.clip(t_new, aa, ba)
-        a[active], b[active], fa[active], fb[active] = aa, ba, new_fa, new_fb
-        side[active] = np.where(left, 1, -1)
-        active = active[np.abs(ft) > accept * h]
+        active = illinois_step(active, ft, t, a, b, fa, fb, side, step, tol * h, accept * h)
     return t, spent

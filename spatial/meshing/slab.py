@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import functools
+import queue
+import sys
+import threading
 
 import numpy as np
 
-from .arrays import _evaluate, _nudge, _repeat2, _settle_ties
-from .blocks import INTERIOR, _edges_of, _marching_cubes
+from .arrays import _evaluate, _nudge, _release_free_memory, _repeat2, _settle_ties
+from .kernels import (block_boxes, crossing_ends, fill_values, infer_around, node_ids, node_points, ring_to_nodes,
+                      take_block)
 
 __all__ = []
 
@@ -38,13 +42,19 @@ class _SlabJob:
         self.slab, self.stride, self.lip = slab, stride, lip
         self.x0 = slab * block
         self.nbz = int(stride) // block + 3  # block keys: by * nbz + bz, the same in every slab
+        self.capacity_hint = 1 << 16  # vertices the slab's buffers start with
 
     # -- the parts -------------------------------------------------------------------------
     def _blocks(self, sc):
         P = self.P
         by = sc[:, 1] // P
         bz = sc[:, 2] // P
-        keys, inv = np.unique(by * self.nbz + bz, return_inverse=True)
+        # the keys are few (nbz**2): unique keys and inverse by counting instead of sorting
+        key = by * self.nbz + bz
+        present = np.bincount(key, minlength=self.nbz * self.nbz) > 0
+        keys = np.flatnonzero(present).astype(key.dtype)
+        rank = np.cumsum(present) - 1
+        inv = rank[key]
         self.keys = keys
         self.bys, self.bzs = np.divmod(keys, self.nbz)
         self.nb = keys.shape[0]
@@ -105,19 +115,9 @@ class _SlabJob:
             sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
             state[idx[sel, 0] - xc, idx[sel, 1] - y0, idx[sel, 2] - z0] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
         state[sc[:, 0] - xc, sc[:, 1] - y0, sc[:, 2] - z0] = NEEDED
-        ry = (self.bys * P - 1 - y0)[:, None] + np.arange(P + 2)
-        rz = (self.bzs * P - 1 - z0)[:, None] + np.arange(P + 2)
-        rx = np.arange(P + 2)
-        out = state[rx[None, :, None, None], ry[:, None, :, None], rz[:, None, None, :]]  # (nb, P+2, P+2, P+2)
-        # cells -> nodes, axis by axis: node j lies in ring cells (j+1)//2 and (j+2)//2, i.e. between
-        # entries j+1 and j+2 of the ring repeated twice
-        for ax in (1, 2, 3):
-            twice = _repeat2(out, ax)
-            a_sl = [slice(None)] * 4
-            b_sl = [slice(None)] * 4
-            a_sl[ax] = slice(1, 2 * P + 2)
-            b_sl[ax] = slice(2, 2 * P + 3)
-            out = twice[tuple(a_sl)] | twice[tuple(b_sl)]
+        out = np.empty((self.nb,) + (2 * P + 1,) * 3, dtype=np.uint8)
+        ring_to_nodes(state, (self.bys * P - 1 - y0).astype(np.int64), (self.bzs * P - 1 - z0).astype(np.int64), P,
+                      out)
         return out
 
     def _known_in_blocks(self, extra):
@@ -144,17 +144,16 @@ class _SlabJob:
         base = ((b_.astype(np.int64) * n + x_) * n + y_) * n + z_
         flat = code.reshape(-1)
         step = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1)
+        # float32 values: a margin for their rounding
+        thresholds = np.empty(step.shape[0], dtype=np.float32)
         for d in np.unique(_NEIGHBOUR_DIST):
-            # float32 values: a margin for their rounding
-            far = np.flatnonzero(mag > np.float32(self.lip * d * self.h * (1 + 1e-6)))
-            if far.size:
-                at, s = base[far], gs[far]
-                for off in step[_NEIGHBOUR_DIST == d]:
-                    flat[at + off] |= s
-        flat[base] |= gs
+            thresholds[_NEIGHBOUR_DIST == d] = np.float32(self.lip * d * self.h * (1 + 1e-6))
+        infer_around(flat, base, gs, mag, step.astype(np.int64), thresholds)
 
-    def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
-        """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
+    def prepare(self, sc, given, ring, centre_infer, handoff, extra=None):
+        """Sample the slab's nodes: ``(cells, values (nb, B+1, B+1, B+1), evaluations, handoff)``,
+        what `mesh` takes.  Needs only the previous slab's handoff, not its mesh, so the next slab
+        can be prepared while this one is meshed."""
         B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
         cells = self._blocks(sc)
         code = self._node_codes(sc, *ring) if c == 2 else self._needed(cells).view(np.uint8)
@@ -180,19 +179,11 @@ class _SlabJob:
         maybe = _shared_nodes(B)[rest]
         top = np.flatnonzero(rest >= B * (B + 1) ** 2)  # the upper x plane, handed to the next slab
         del rest
-        y_base = (self.bys * B).astype(itype)
-        z_base = (self.bzs * B).astype(itype)
-
-        def where_(rows):
-            """Slab x, global y and z of the needed nodes `rows` (only the few that need them)."""
-            b_, r_ = np.divmod(flat[rows], itype(n3))
-            x_, r_ = np.divmod(r_, itype((B + 1) ** 2))
-            y_, z_ = np.divmod(r_, itype(B + 1))
-            return x_, y_base[b_] + y_, z_base[b_] + z_
+        y_base = (self.bys * B).astype(np.int64)
+        z_base = (self.bzs * B).astype(np.int64)
 
         def ids(rows):
-            x_, y_, z_ = where_(rows)
-            return ((x_.astype(np.int64) + x0) * stride + y_) * stride + z_
+            return node_ids(flat, rows, B, int(x0), y_base, z_base, int(stride))
 
         s_n = code.reshape(-1)[flat]
         s_n = ((s_n >> 1) & 1).astype(np.int8) - ((s_n >> 2) & 1).astype(np.int8)
@@ -223,12 +214,7 @@ class _SlabJob:
         def sample(sel_single, sel_unique):
             """Evaluate the chosen single nodes and unique merged nodes in one call."""
             pick = np.concatenate([np.flatnonzero(sel_single), m_idx[ufirst[sel_unique]]])
-            x_, y_, z_ = where_(pick)
-            pts = np.empty((pick.shape[0], 3))
-            pts[:, 0] = self.origin[0] + (x_ + x0) * h
-            pts[:, 1] = self.origin[1] + y_ * h
-            pts[:, 2] = self.origin[2] + z_ * h
-            del x_, y_, z_
+            pts = node_points(flat, pick, B, int(x0), y_base, z_base, np.asarray(self.origin, dtype=np.float64), h)
             if not pick.shape[0]:
                 return np.empty(0, np.float32), np.empty(0, np.float32), 0
             vals = _evaluate(self.solid, pts)
@@ -251,21 +237,9 @@ class _SlabJob:
         del t1, t1u, a, b
         # -- pass 2: the ends of crossing edges without a value -------------------------------
         # (before marching cubes, which resolves its ambiguous faces and cubes from the values)
-        sgn = code.view(np.int8)  # the codes are spent: their memory holds the signs
-        sgn[...] = 0
-        sgn.reshape(-1)[flat] = s_n
-        want = np.zeros(code.shape, dtype=bool)
-        for ax in (1, 2, 3):
-            lo_sl = [slice(None)] * 4
-            hi_sl = [slice(None)] * 4
-            lo_sl[ax] = slice(0, -1)
-            hi_sl[ax] = slice(1, None)
-            cross = (sgn[tuple(lo_sl)] * sgn[tuple(hi_sl)]) < 0
-            want[tuple(lo_sl)] |= cross
-            want[tuple(hi_sl)] |= cross
-        del cross, sgn, code
-        w_n = want.reshape(-1)[flat] & np.isnan(v_n)
-        del want
+        # (the codes are spent: their memory holds the signs)
+        w_n = crossing_ends(code.reshape(-1).view(np.int8), flat, s_n, v_n, B)
+        del code
         w_u = np.zeros(uniq.shape[0], dtype=bool)
         w_u[back[w_n[m_idx]]] = True
         w_s = w_n & single
@@ -277,53 +251,36 @@ class _SlabJob:
         v_n[m_idx] = v_u[back]
         del w_s, w_u, a, b
         # -- marching cubes: a sign-only node gets +-L h, an unused node 1 ------------------
-        placeholder = v_n.copy()
-        missing = np.isnan(v_n)
-        if missing.any():
-            scale = np.float32(self.lip * h if self.lip else h)
-            placeholder[missing] = s_n[missing].astype(np.float32) * scale
-        del missing
-        values = np.ones(self.nb * (B + 1) ** 3, dtype=np.float32)
-        values[flat] = placeholder
-        del placeholder
-        raw = self._mesh_blocks(cells, values.reshape(self.nb, B + 1, B + 1, B + 1))
-        if raw is not None:
-            # every end of a crossing edge holds its value: read the ends from the dense samples
-            vblk, node, axis, faces = raw
-            del raw
-            n1 = B + 1
-            end = ((vblk.astype(np.int64) * n1 + node[:, 0]) * n1 + node[:, 1]) * n1 + node[:, 2]
-            f0 = values[end]
-            end += np.array([n1 * n1, n1, 1, 0], dtype=np.int64)[axis]
-            f1 = values[end]
-            del end
-            # a vertex on an edge lying in a block face may be another block's too (one inside a
-            # cube never is)
-            shared = (((node == 0) | (node == B)) & (axis[:, None] != np.arange(3))).any(axis=1)
-            shared &= axis != INTERIOR
-            node[:, 0] += x0
-            node[:, 1] += (self.bys[vblk] * B).astype(np.int32)
-            node[:, 2] += (self.bzs[vblk] * B).astype(np.int32)
-            del vblk
-            edges = ((node[:, 0].astype(np.int64) * stride + node[:, 1]) * stride + node[:, 2]) * 3 + axis
-            parts.append((edges[shared], shared, (node, axis.astype(np.uint8), f0, f1), faces))
-            del edges, shared, node, axis, f0, f1, faces
-        del values
+        scale = np.float32(self.lip * h if self.lip else h)
+        values = np.empty(self.nb * (B + 1) ** 3, dtype=np.float32)
+        fill_values(values, flat, v_n, s_n, scale)
+        del v_u
         # the upper plane goes to the next slab (values NaN where only the sign is known)
         hid, first = np.unique(ids(top), return_index=True)
         handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
+        return cells, values.reshape(self.nb, B + 1, B + 1, B + 1), spent, handoff
+
+    def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
+        """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
+        cells, values, spent, handoff = self.prepare(sc, given, ring, centre_infer, handoff, extra)
+        self.mesh(cells, values, parts)
         return self.nb, spent, handoff
 
+    def mesh(self, cells, values, parts):
+        """Marching cubes of the prepared slab (`prepare`), its part appended to `parts`; returns the
+        number of vertices made."""
+        raw = self._mesh_blocks(cells, values)
+        if raw is None:
+            return 0
+        parts.append(raw)
+        return raw[1].shape[0]
+
     def _mesh_blocks(self, cells, values):
-        """Marching cubes on every active block of the slab: ``(block, lower node of the edge
-        (block-local), axis, faces)`` of the slab's vertices, or None."""
+        """Marching cubes on every active block of the slab: the slab's part for `merge_blocks`
+        (global edge ids of the vertices in block faces, their mask, ``(node, axis, f0, f1)``,
+        faces), or None."""
         B, c, x0, stride = self.B, self.c, self.x0, self.stride
-        inv = self.cl[0]
-        local = np.stack(self.cl[1:], axis=1)
-        lows = np.full((self.nb, 3), self.P, dtype=np.int64)
-        highs = np.zeros((self.nb, 3), dtype=np.int64)
-        np.minimum.at(lows, inv, local)
-        np.maximum.at(highs, inv, local + 1)
+        lows, highs = block_boxes(*self.cl, self.nb, self.P)
         # the voxels of the cells, for the whole slab at once
         voxels = cells
         if c == 2:
@@ -332,8 +289,9 @@ class _SlabJob:
         elif c > 1:
             for ax in (1, 2, 3):
                 voxels = np.repeat(voxels, c, axis=ax)
-        verts, faces, counts, origins = [], [], [], []
-        n_verts = 0
+        buf = _SlabBuffers(self.capacity_hint)
+        gy = self.bys * B
+        gz = self.bzs * B
         for b in range(self.nb):
             box_lo, box_hi = (lows[b] * c).tolist(), (highs[b] * c).tolist()
             cb = voxels[b, box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
@@ -343,23 +301,154 @@ class _SlabJob:
             vol = np.ascontiguousarray(values[box])
             mask = np.zeros(vol.shape, dtype=bool)
             mask[1:, 1:, 1:] = cb
-            v, f = _marching_cubes(vol, mask)
-            if v is None or f.shape[0] == 0:
+            verts, tri = _marching_cubes_raw(vol, mask)
+            if verts.shape[0] == 0 or tri.shape[0] == 0:
                 continue
-            verts.append(v)
-            faces.append(f + n_verts if n_verts else f)
-            counts.append(v.shape[0])
-            origins.append((b, xs, ys, zs))
-            n_verts += v.shape[0]
-        if not verts:
+            buf.reserve(verts.shape[0], tri.shape[0] // 3)
+            buf.vat, buf.fat, buf.eat = take_block(
+                verts, tri, values, b, xs, ys, zs, B, x0, int(gy[b]), int(gz[b]), int(stride), buf.node, buf.axis,
+                buf.f0, buf.f1, buf.shared, buf.edge, buf.faces, buf.vat, buf.fat, buf.eat)
+        if buf.vat == 0:
             return None
-        verts = np.concatenate(verts)
-        faces = np.concatenate(faces).astype(np.int32 if n_verts < 2 ** 31 else np.int64)
-        where = np.repeat(np.asarray(origins, dtype=np.int32), counts, axis=0)
-        node, axis = _edges_of(verts)
-        del verts
-        node += where[:, 1:]
-        return where[:, 0], node, axis, faces
+        return buf.part()
+
+
+class _SlabBuffers:
+    """Growing per-slab arrays the blocks' vertices and faces are written into (no list of pieces
+    to concatenate); `part` trims them to the part `merge_blocks` takes."""
+
+    def __init__(self, capacity):
+        self.vat = self.fat = self.eat = 0
+        self._alloc(max(int(capacity), 1024))
+
+    def _alloc(self, cap, old=None):
+        self.cap = cap
+        self.node = np.empty((cap, 3), np.int32)
+        self.axis = np.empty(cap, np.uint8)
+        self.f0 = np.empty(cap, np.float32)
+        self.f1 = np.empty(cap, np.float32)
+        self.shared = np.empty(cap, np.bool_)
+        self.edge = np.empty(cap, np.int64)
+        self.faces = np.empty((2 * cap + 16, 3), np.int32)
+        if old is not None:
+            for name in ("node", "axis", "f0", "f1", "shared"):
+                getattr(self, name)[:self.vat] = getattr(old, name)[:self.vat]
+            self.edge[:self.eat] = old.edge[:self.eat]
+            self.faces[:self.fat] = old.faces[:self.fat]
+
+    def reserve(self, nv, nf):
+        if self.vat + nv > self.cap or self.fat + nf > self.faces.shape[0]:
+            old = _Old(self)
+            self._alloc(max(2 * self.cap, self.vat + nv, (self.fat + nf) // 2 + 1), old)
+
+    def part(self):
+        v, f, e = self.vat, self.fat, self.eat
+
+        def trim(arr, n):
+            return arr[:n].copy()  # the buffers' spare room is not kept alive by the part
+
+        return (trim(self.edge, e), trim(self.shared, v),
+                (trim(self.node, v), trim(self.axis, v), trim(self.f0, v), trim(self.f1, v)), trim(self.faces, f))
+
+
+class _Old:
+    def __init__(self, buf):
+        self.__dict__.update(buf.__dict__)
+
+
+def _marching_cubes_raw(values, mask):
+    """scikit-image's Lewiner marching cubes at level 0 from its Cython kernel: vertices (columns in
+    reversed axis order) and flat triangles (wound for ``ascent``).  The Python wrapper's checks,
+    flips and copies are left out: `take_block` reads the kernel's output as it is."""
+    global _LUTS, _MC
+    if _MC is None:
+        from skimage.measure import _marching_cubes_lewiner_cy as cy
+        from skimage.measure._marching_cubes_lewiner import _get_mc_luts
+
+        _LUTS, _MC = _get_mc_luts(), cy.marching_cubes
+    verts, tri, _, _ = _MC(values, 0.0, _LUTS, 1, False, mask)
+    return verts, tri
+
+
+_LUTS = _MC = None
+
+
+def run_slabs(tasks, parts, overlap=False):
+    """Prepare and mesh slabs in order; yields ``(blocks meshed, evaluations)`` per slab.
+
+    `tasks` yields ``(job, (cells, given, ring, centre_infer, extra))``; each slab's preparation
+    takes the previous one's handoff.  With `overlap`, a worker thread prepares slab ``k + 1``
+    (compiled, GIL-free evaluation and bookkeeping for the most part) while this thread runs
+    scikit-image's marching cubes on slab ``k`` (which holds the GIL): the two cores share the
+    work.  At most one prepared slab waits, so memory grows by one slab's arrays.  The parts
+    and counts are the same either way.
+    """
+    if not overlap:
+        handoff = None
+        made = 0
+        for job, (sc, given, ring, centre_infer, extra) in tasks:
+            cells, values, spent, handoff = job.prepare(sc, given, ring, centre_infer, handoff, extra)
+            # neighbouring slabs make about as many vertices: buffers sized from the last one
+            job.capacity_hint = max(job.capacity_hint, made + made // 4)
+            made = job.mesh(cells, values, parts)
+            del cells, values
+            # the slab's temporaries go back to the system before the next slab's are made:
+            # otherwise the heap they leave fragmented adds to the peak under the growing parts
+            _release_free_memory()
+            yield job.nb, spent
+        return
+    ready = queue.Queue(maxsize=1)
+    stop = threading.Event()
+
+    def put(item):
+        while not stop.is_set():
+            try:
+                ready.put(item, timeout=0.1)
+                return True
+            except queue.Full:
+                continue
+        return False
+
+    def work():
+        try:
+            handoff = None
+            for job, (sc, given, ring, centre_infer, extra) in tasks:
+                if stop.is_set():
+                    return
+                cells, values, spent, handoff = job.prepare(sc, given, ring, centre_infer, handoff, extra)
+                if not put((job, cells, values, spent)):
+                    return
+                del cells, values
+            put(None)
+        except BaseException as exc:  # handed to the meshing thread, raised there
+            put(exc)
+
+    worker = threading.Thread(target=work, name="implicad-slab-prepare", daemon=True)
+    # frequent hand-overs of the GIL: the worker's Python steps between its compiled calls should
+    # not wait out the default 5 ms while marching cubes runs block after block
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(min(interval, SWITCH_INTERVAL))
+    worker.start()
+    try:
+        while True:
+            item = ready.get()
+            if item is None:
+                break
+            if isinstance(item, BaseException):
+                raise item
+            job, cells, values, spent = item
+            del item
+            job.mesh(cells, values, parts)
+            del cells, values
+            yield job.nb, spent
+    finally:
+        stop.set()
+        worker.join()
+        sys.setswitchinterval(interval)
+
+
+#: GIL switch interval (s) while slabs are prepared beside marching cubes.
+SWITCH_INTERVAL = 5e-4
 
 
 @functools.lru_cache(maxsize=8)

@@ -39,6 +39,25 @@ def test_stl_is_binary_with_usual_permissions(tmp_path, ball):
     assert os.stat(path).st_mode == os.stat(plain).st_mode
 
 
+def test_stl_matches_vtk_writer(tmp_path, ball, monkeypatch):
+    """The array writer (in chunks) writes VTK's records: the same corners byte for byte and the
+    same unit normals (up to the sign of a zero component)."""
+    import spatial.files.meshes as meshes
+
+    monkeypatch.setattr(meshes, "_write_binary_stl",
+                        lambda m, path, _w=meshes._write_binary_stl: _w(m, path, chunk=100))
+    ours = np.fromfile(save_mesh(ball, tmp_path / "ours.stl"), dtype=np.uint8)
+    ball.save(str(tmp_path / "vtk.stl"), binary=True)
+    theirs = np.fromfile(tmp_path / "vtk.stl", dtype=np.uint8)
+    assert ours.size == theirs.size == 84 + 50 * ball.n_cells
+    assert ours[80:84].view("<u4")[0] == ball.n_cells
+    a, b = ours[84:].reshape(-1, 50), theirs[84:].reshape(-1, 50)
+    assert np.array_equal(a[:, 12:], b[:, 12:])
+    na, nb = a[:, :12].copy().view("<f4"), b[:, :12].copy().view("<f4")
+    assert np.array_equal(na, nb)  # -0.0 == 0.0
+    assert np.allclose(np.linalg.norm(na, axis=1), 1.0, atol=1e-6)
+
+
 def test_unknown_extension_refused_before_work(tmp_path):
     with pytest.raises(ValueError, match=r"unknown mesh format '\.step'.*\.stl.*\.ply.*\.obj.*\.vtp.*\.vtk"):
         save_mesh(None, tmp_path / "part.step")  # refused before the mesh is even looked at

@@ -282,3 +282,18 @@ def test_part_families_get_the_lean_sampling_too():
     assert lean.n_cells == full.n_cells > 0
     assert np.allclose(np.sort(lean.points, axis=0), np.sort(full.points, axis=0), atol=1e-12)
     assert lean.field_data["evaluations"][0] < 0.8 * full.field_data["evaluations"][0]
+
+
+def test_slabs_prepared_on_a_worker_thread_give_the_same_mesh(monkeypatch):
+    """`run_slabs(overlap=True)` (the next slab sampled while marching cubes runs) makes the parts
+    and evaluations the serial order makes."""
+    import spatial.meshing.cells as cells_mod
+    from spatial.meshing.slab import run_slabs
+
+    part = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0))
+    serial = mesh(part, resolution=40, block=8, progress=False, features=False)
+    monkeypatch.setattr(cells_mod, "run_slabs", lambda tasks, parts: run_slabs(tasks, parts, overlap=True))
+    threaded = mesh(part, resolution=40, block=8, progress=False, features=False)
+    assert np.array_equal(np.asarray(serial.points), np.asarray(threaded.points))
+    assert np.array_equal(np.asarray(serial.faces), np.asarray(threaded.faces))
+    assert serial.field_data["evaluations"][0] == threaded.field_data["evaluations"][0]
