@@ -9,6 +9,7 @@ failure, and the seeds of the first failures of each kind (to turn into
 regression tests).
 
     .venv/bin/python bench/fuzz.py [--cases 10000] [--start 0] [--jobs 2] [--min-res 16] [--max-res 96]
+        [--features on|off|default]
 """
 
 from __future__ import annotations
@@ -23,15 +24,17 @@ from concurrent.futures import ProcessPoolExecutor
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "tests")]
 
+import fuzzcheck  # noqa: E402
 from fuzzcheck import failures  # noqa: E402
 from fuzzgen import random_case  # noqa: E402
 
 _RES = (16, 96)
 
 
-def _init(res):
+def _init(res, features=None):
     global _RES
     _RES = res
+    fuzzcheck.FEATURES = features
 
 
 def _one(seed):
@@ -46,14 +49,17 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--min-res", type=int, default=16)
     ap.add_argument("--max-res", type=int, default=96)
+    ap.add_argument("--features", choices=("on", "off", "default"), default="default",
+                    help="mesh with features=True / False, or the mesher's default")
     args = ap.parse_args(argv)
+    feats = {"on": True, "off": False, "default": None}[args.features]
     res = (args.min_res, args.max_res)
     t0 = time.perf_counter()
     counts = collections.Counter()
     examples = collections.defaultdict(list)
     valid = done = 0
     seeds = range(args.start, args.start + args.cases)
-    with ProcessPoolExecutor(args.jobs, initializer=_init, initargs=(res,)) as pool:
+    with ProcessPoolExecutor(args.jobs, initializer=_init, initargs=(res, feats)) as pool:
         for seed, found, text in pool.map(_one, seeds, chunksize=8):
             done += 1
             invalid = [k for k in found if k not in ("volume", "thin feature lost")]
@@ -65,7 +71,7 @@ def main(argv=None):
             if done % 1000 == 0:
                 print(f"{done} cases, {valid} valid, {time.perf_counter() - t0:.0f} s", flush=True)
     print(f"cases {done} (seeds {args.start}..{args.start + args.cases - 1}, resolution {res[0]}-{res[1]}, "
-          f"depth 0-5): valid meshes {valid} of {done}, crashes "
+          f"depth 0-5, features {args.features}): valid meshes {valid} of {done}, crashes "
           f"{sum(v for k, v in counts.items() if k.startswith('crash'))}, {time.perf_counter() - t0:.0f} s")
     for k, v in counts.most_common():
         print(f"  {v:6d}  {k}")

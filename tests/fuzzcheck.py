@@ -23,14 +23,17 @@ import numpy as np
 Z = 5.0
 #: Monte-Carlo points per case.
 MC_POINTS = 20000
+#: ``features`` passed to `spatial.mesh` (None: the mesher's default); `bench/fuzz.py --features` sets it.
+FEATURES = None
 
 
 def mesh_case(case):
     import spatial
 
+    extra = {} if FEATURES is None else {"features": bool(FEATURES)}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return spatial.mesh(case.solid, voxel_size=case.voxel_size, bounds=case.bounds, progress=False)
+        return spatial.mesh(case.solid, voxel_size=case.voxel_size, bounds=case.bounds, progress=False, **extra)
 
 
 def mesh_failures(m, h):

@@ -73,6 +73,10 @@ __all__ = ["sharpen", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
 #: A triangle whose normal makes ``cos < COS_CANDIDATE`` with one of its vertex normals marks its cell.
 COS_CANDIDATE = 0.97
+#: A vertex this close (in voxels, every coordinate) to a lattice node lies at a node: its sample was a tie.
+AT_NODE = 0.01
+#: Bisection steps that put a vertex of a lattice edge lying in a face at the face's border (2**-30 voxels).
+BISECTIONS = 30
 #: Two exact normals with ``cos < COS_SHARP`` belong to different faces (libfive's 0.9).
 COS_SHARP = 0.9
 #: QEF eigenvalues under this fraction of the largest are dropped (the rank is what is left).
@@ -102,7 +106,26 @@ def _cross(u, v):
 
 
 @numba.njit(cache=True, nogil=True)
-def _candidate_cells(pts, faces, origin, h, cos_limit):
+def _at_node(pts, origin, h, node_tol):
+    """Vertices within `node_tol` voxels of a lattice node in every coordinate, and the axis of each
+    one's lattice edge (the coordinate farthest from the node; -1 when it sits on the node exactly)."""
+    n = pts.shape[0]
+    at = np.empty(n, np.bool_)
+    axis = np.full(n, -1, np.int64)
+    for v in range(n):
+        far = 0.0
+        for j in range(3):
+            u = (pts[v, j] - origin[j]) / h
+            d = abs(u - np.floor(u + 0.5))
+            if d > far:
+                far = d
+                axis[v] = j
+        at[v] = far < node_tol
+    return at, axis
+
+
+@numba.njit(cache=True, nogil=True)
+def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
     """Lattice cell of every triangle and whether it departs from a vertex normal (one pass each)."""
     m = faces.shape[0]
     n = pts.shape[0]
@@ -133,7 +156,11 @@ def _candidate_cells(pts, faces, origin, h, cos_limit):
                 d = (tn[t, 0] * vn[v, 0] + tn[t, 1] * vn[v, 1] + tn[t, 2] * vn[v, 2]) / s
                 if d < worst:
                     worst = d
-            marked[t] = worst < cos_limit
+            n_node = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
+            # a triangle joining a node vertex to an ordinary one is the border of such a face: the
+            # crossings on lattice edges lying in the face's plane are undefined there, and the chamfer
+            # they leave may bend less than the normals' test sees
+            marked[t] = worst < cos_limit or (n_node > 0 and n_node < 3)
         for j in range(3):
             q = (pts[faces[t, 0], j] + pts[faces[t, 1], j] + pts[faces[t, 2], j]) * third
             ijk[t, j] = np.int64(np.floor((q - origin[j]) / h))
@@ -187,8 +214,13 @@ def sharpen(solid, points, faces, origin, h):
         return plain
     origin = np.asarray(origin, dtype=np.float64)
 
+    # -- 0. vertices on lattice edges lying in a face ------------------------------------------
+    at_node, axis = _at_node(pts, origin, float(h), AT_NODE)
+    pts = _off_flat_edges(solid, pts, f, at_node, axis, origin, float(h))
+    at_node, _ = _at_node(pts, origin, float(h), AT_NODE)
+
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
-    marked, ijk, vn = _candidate_cells(pts, f, origin, float(h), COS_CANDIDATE)
+    marked, ijk, vn = _candidate_cells(pts, f, origin, float(h), COS_CANDIDATE, at_node)
     if not marked.any():
         return plain
     lo = ijk.min(axis=0)
@@ -279,6 +311,56 @@ def sharpen(solid, points, faces, origin, h):
                 facet_names=list(ff.names), feature_cells=int(fan_cells.shape[0]))
 
 
+def _off_flat_edges(solid, pts, faces, at_node, axis, origin, h):
+    """Vertices at a lattice node whose lattice edge lies in a face, moved to where that face ends.
+
+    On a face lying in a lattice plane the field is 0 along the lattice
+    edges of the plane, so the crossing found on such an edge (the sample
+    at its far end inside, the tie at the node settled outside, or the
+    reverse) sits at the node, up to a voxel from the face's true border.
+    Only vertices at a node that join an ordinary vertex (the border of
+    the face) and whose value is a tie are looked at; each is bisected
+    along its edge, from the far node, to where the field stops having
+    the far node's sign: the point of the edge on the face's border.
+    """
+    from .arrays import ZERO_TIE
+
+    joined = at_node[faces].sum(axis=1)
+    mixed = faces[(joined > 0) & (joined < 3)].reshape(-1)
+    v = np.unique(mixed[at_node[mixed] & (axis[mixed] >= 0)])
+    if v.shape[0] == 0:
+        return pts
+    tie = ZERO_TIE * h
+    val = solid(pts[v])
+    v = v[np.abs(val) <= tie]
+    if v.shape[0] == 0:
+        return pts
+    a = axis[v]
+    r = np.arange(v.shape[0])
+    u = (pts[v, a] - origin[a]) / h
+    near = np.floor(u + 0.5)
+    far = origin[a] + (near - np.sign(near - u)) * h       # the other end of the vertex's lattice edge
+    lo = pts[v].copy()
+    lo[r, a] = far
+    s_far = np.sign(solid(lo))
+    ok = np.abs(solid(lo)) > tie
+    v, a, r, lo, s_far = v[ok], a[ok], np.arange(int(ok.sum())), lo[ok], s_far[ok]
+    if v.shape[0] == 0:
+        return pts
+    hi = pts[v].copy()
+    for _ in range(BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        fm = solid(mid)
+        same = (np.sign(fm) == s_far) & (np.abs(fm) > tie)
+        lo[same] = mid[same]
+        hi[~same] = mid[~same]
+    # a vertex on a true crossing at the node stays (bisection finds the node again)
+    moved = np.abs(hi - pts[v]).max(axis=1) > 0.1 * AT_NODE * h
+    out = pts.copy()
+    out[v[moved]] = hi[moved]
+    return out
+
+
 def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     """Gauss-Newton onto the common curve (2 faces) or point (3) of a cell's faces.
 
@@ -317,11 +399,36 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
         sub = np.flatnonzero(off)[hit]
         if sub.shape[0]:
             q[sub], _ = _newton(ff, moved[hit], idx[sub], used[sub], h, 1)
+        # a curve that passes by the cell without entering it (the cell holds it only through a vertex
+        # not yet on the surface): the point of the tangent line nearest the cell, which the clip to the
+        # cell then takes to the cell's point nearest the curve (the plain clip would go across it)
+        miss = np.flatnonzero(off)[~hit]
+        if miss.shape[0]:
+            q[miss] = _nearest_on_line(q[miss], t[~hit], lo_c[miss], hi_c[miss], h)
     lo = cell_lo[rows] - 0.5 * h
     inside = np.all((q >= lo) & (q <= lo + 2.0 * h), axis=1) & np.all(np.isfinite(q), axis=1)
     x = x.copy()
     x[rows[inside]] = q[inside]
     return x
+
+
+def _nearest_on_line(q, t, lo, hi, h, steps=40):
+    """Point ``q + s t`` (``|s| <= 2 h``) nearest the box ``[lo, hi]``, per row (golden-section search:
+    the distance to a box along a line is convex)."""
+    a = np.full(q.shape[0], -2.0 * h)
+    b = np.full(q.shape[0], 2.0 * h)
+    g = 0.5 * (np.sqrt(5.0) - 1.0)
+
+    def gap(s):
+        p = q + s[:, None] * t
+        return np.einsum("ij,ij->i", *(2 * [p - np.clip(p, lo, hi)]))
+
+    for _ in range(steps):
+        c, d = b - g * (b - a), a + g * (b - a)
+        left = gap(c) <= gap(d)
+        b = np.where(left, d, b)
+        a = np.where(left, a, c)
+    return q + (0.5 * (a + b))[:, None] * t
 
 
 def _newton(ff, q, idx, used, h, steps):
