@@ -53,7 +53,7 @@ def exact_features(solid, resolution=128, seeds=None):
     from spatial.meshing import mesh
 
     ff = FacetField(solid)
-    seed_mesh = mesh(solid, resolution=resolution)
+    seed_mesh = mesh(solid, resolution=resolution, features=False)
     h = float(seed_mesh.field_data["voxel_size"][0])
     p = np.asarray(seed_mesh.points if seeds is None else seeds, dtype=np.float64)
     names = ff.names

@@ -413,7 +413,7 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         solid = solid_or_mesh
         mesh = None
     elif isinstance(solid_or_mesh, pv.PolyData):
-        mesh = solid_or_mesh
+        mesh = corner_mesh = solid_or_mesh
     else:
         raise TypeError(f"solid_or_mesh: expected a Solid or a pyvista.PolyData, got {type(solid_or_mesh).__name__}")
     if solid is not None and not isinstance(solid, Solid):
@@ -427,16 +427,15 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
     if mesh is None:
         if not solid.is_bounded or solid.is_empty_bounds:
             raise ValueError("solid_or_mesh: expected a bounded, non-empty solid")
-        try:
-            from ..meshing.boundary import mesh as _mesh_solid
-        except ImportError as exc:
-            raise ImportError("surface_for_fea needs spatial.mesh to mesh a Solid; pass a surface mesh instead") from exc
+        from ..meshing.boundary import mesh as _mesh_solid
+
         h = voxel_size or size / 4.0
-        # The feature mesh of the solid grown by a twentieth of a voxel (touching faces of a union are
-        # 0 inside the part: a crack otherwise); its corners (faces named as the solid's) become nodes.
+        # The plain mesh of the solid grown by a twentieth of a voxel (touching faces of a union are 0
+        # inside the part: a crack otherwise); the feature mesh as the start loses volume on thin parts.
         from implicit.modifiers import offset as _offset
 
-        mesh = _mesh_solid(_offset(solid, 0.05 * h), voxel_size=h, features=True)
+        mesh = _mesh_solid(_offset(solid, 0.05 * h), voxel_size=h)
+        corner_mesh = _mesh_solid(solid, voxel_size=h, features=True)  # its corners become nodes
     if mesh.n_cells == 0:
         raise ValueError("solid_or_mesh: the mesh has no cells")
 
@@ -484,7 +483,7 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
             fixed = (np.abs(fv) < tol).sum(axis=0) >= 2
             faces = _flip_across_features(ff, pts, faces, fixed)
             pts = _tangential_relax(solid, pts, faces, fixed)
-        pts, count, _ = snap_exact_corners(pts, faces, exact_corners(ff, mesh), size, tol, _apply_snaps,
+        pts, count, _ = snap_exact_corners(pts, faces, exact_corners(ff, corner_mesh), size, tol, _apply_snaps,
                                            lambda p, f, held: _tangential_relax(solid, p, f, held), fixed)
         snapped += count
     result = _polydata(pts, faces)

@@ -146,6 +146,7 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
             vn[v, 0] /= s; vn[v, 1] /= s; vn[v, 2] /= s
     marked = np.zeros(m, np.bool_)
     ijk = np.empty((m, 3), np.int64)
+    lo = np.full(3, np.iinfo(np.int64).max, np.int64)
     third = 1.0 / 3.0
     for t in range(m):
         s = np.sqrt(tn[t, 0] ** 2 + tn[t, 1] ** 2 + tn[t, 2] ** 2)
@@ -164,7 +165,37 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
         for j in range(3):
             q = (pts[faces[t, 0], j] + pts[faces[t, 1], j] + pts[faces[t, 2], j]) * third
             ijk[t, j] = np.int64(np.floor((q - origin[j]) / h))
-    return marked, ijk, vn
+            if ijk[t, j] < lo[j]:
+                lo[j] = ijk[t, j]
+    # one key per cell, ``(i * s + j) * s + k`` from the lowest cell
+    s = np.int64(1)
+    for t in range(m):
+        for j in range(3):
+            if ijk[t, j] - lo[j] + 1 > s:
+                s = ijk[t, j] - lo[j] + 1
+    key = np.empty(m, np.int64)
+    for t in range(m):
+        key[t] = ((ijk[t, 0] - lo[0]) * s + ijk[t, 1] - lo[1]) * s + ijk[t, 2] - lo[2]
+    return marked, key, lo, s, vn
+
+
+@numba.njit(cache=True, nogil=True)
+def _cell_index(key, cells):
+    """Index of each key in the sorted `cells`, -1 where it is not there (binary search)."""
+    out = np.full(key.shape[0], -1, np.int64)
+    n = cells.shape[0]
+    for t in range(key.shape[0]):
+        k = key[t]
+        a, b = 0, n
+        while a < b:
+            c = (a + b) >> 1
+            if cells[c] < k:
+                a = c + 1
+            else:
+                b = c
+        if a < n and cells[a] == k:
+            out[t] = a
+    return out
 
 
 def _runs(sorted_keys):
@@ -216,22 +247,18 @@ def sharpen(solid, points, faces, origin, h):
 
     # -- 0. vertices on lattice edges lying in a face ------------------------------------------
     at_node, axis = _at_node(pts, origin, float(h), AT_NODE)
-    pts = _off_flat_edges(solid, pts, f, at_node, axis, origin, float(h))
-    at_node, _ = _at_node(pts, origin, float(h), AT_NODE)
+    pts, moved = _off_flat_edges(solid, pts, f, at_node, axis, origin, float(h))
+    at_node[moved] = _at_node(pts[moved], origin, float(h), AT_NODE)[0]
 
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
-    marked, ijk, vn = _candidate_cells(pts, f, origin, float(h), COS_CANDIDATE, at_node)
+    marked, key, lo, s, vn = _candidate_cells(pts, f, origin, float(h), COS_CANDIDATE, at_node)
     if not marked.any():
         return plain
-    lo = ijk.min(axis=0)
-    ijk -= lo
-    s = np.int64(ijk.max() + 1)
-    key = (ijk[:, 0] * s + ijk[:, 1]) * s + ijk[:, 2]
     cand = np.unique(key[marked])
-    at = np.minimum(np.searchsorted(cand, key), cand.shape[0] - 1)
-    tri = np.flatnonzero(cand[at] == key)
-    tri = tri[np.argsort(key[tri], kind="stable")]
-    tcell = np.searchsorted(cand, key[tri])          # candidate-cell index of each chosen triangle
+    at = _cell_index(key, cand)
+    tri = np.flatnonzero(at >= 0)
+    tri = tri[np.argsort(at[tri], kind="stable")]
+    tcell = at[tri]                                  # candidate-cell index of each chosen triangle
     n_cells = cand.shape[0]
 
     # -- 2. exact normals at the vertices of the candidate cells ------------------------------
@@ -290,9 +317,9 @@ def sharpen(solid, points, faces, origin, h):
         feature[gone[gone >= 0]] = False
     else:
         return plain
-    kept = np.ones(f.shape[0], bool)
-    kept[tri[feature[tcell]]] = False
-    out_faces = np.concatenate([f[kept], new_faces])
+    drop = np.zeros(f.shape[0], np.bool_)
+    drop[tri[feature[tcell]]] = True
+    out_faces, used = _assemble(f, drop, new_faces, newp.shape[0])
     frank = np.zeros(newp.shape[0], np.int8)
     frank[n:] = np.minimum(rank[fan_cells], 3)
     ffacets = np.full((newp.shape[0], 3), -1, np.int32)
@@ -301,8 +328,6 @@ def sharpen(solid, points, faces, origin, h):
     ffacets[n:] = lab
     # A vertex inside a cell's polygon (marching cubes' extra vertex of an ambiguous cube) is no
     # corner of the fan that replaced the cell's triangles: drop the vertices no triangle uses.
-    used = np.zeros(newp.shape[0], bool)
-    used[out_faces.reshape(-1)] = True
     if not used.all():
         renumber = np.cumsum(used) - 1
         out_faces = renumber[out_faces].astype(out_faces.dtype)
@@ -325,16 +350,14 @@ def _off_flat_edges(solid, pts, faces, at_node, axis, origin, h):
     """
     from .arrays import ZERO_TIE
 
-    joined = at_node[faces].sum(axis=1)
-    mixed = faces[(joined > 0) & (joined < 3)].reshape(-1)
-    v = np.unique(mixed[at_node[mixed] & (axis[mixed] >= 0)])
+    v = np.flatnonzero(_border_nodes(faces, at_node, axis))
     if v.shape[0] == 0:
-        return pts
+        return pts, v
     tie = ZERO_TIE * h
     val = solid(pts[v])
     v = v[np.abs(val) <= tie]
     if v.shape[0] == 0:
-        return pts
+        return pts, v
     a = axis[v]
     r = np.arange(v.shape[0])
     u = (pts[v, a] - origin[a]) / h
@@ -346,7 +369,7 @@ def _off_flat_edges(solid, pts, faces, at_node, axis, origin, h):
     ok = np.abs(solid(lo)) > tie
     v, a, r, lo, s_far = v[ok], a[ok], np.arange(int(ok.sum())), lo[ok], s_far[ok]
     if v.shape[0] == 0:
-        return pts
+        return pts, v
     hi = pts[v].copy()
     for _ in range(BISECTIONS):
         mid = 0.5 * (lo + hi)
@@ -358,7 +381,44 @@ def _off_flat_edges(solid, pts, faces, at_node, axis, origin, h):
     moved = np.abs(hi - pts[v]).max(axis=1) > 0.1 * AT_NODE * h
     out = pts.copy()
     out[v[moved]] = hi[moved]
+    return out, v[moved]
+
+
+@numba.njit(cache=True, nogil=True)
+def _border_nodes(faces, at_node, axis):
+    """Vertices at a node (on a lattice edge) in a triangle that also has an ordinary vertex."""
+    out = np.zeros(at_node.shape[0], np.bool_)
+    for t in range(faces.shape[0]):
+        k = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
+        if 0 < k < 3:
+            for j in range(3):
+                v = faces[t, j]
+                if at_node[v] and axis[v] >= 0:
+                    out[v] = True
     return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _assemble(f, drop, new_faces, n_points):
+    """The triangles not dropped followed by the new ones, and which of the points they use."""
+    kept = 0
+    for t in range(f.shape[0]):
+        kept += not drop[t]
+    out = np.empty((kept + new_faces.shape[0], 3), np.int64)
+    used = np.zeros(n_points, np.bool_)
+    r = 0
+    for t in range(f.shape[0]):
+        if not drop[t]:
+            for j in range(3):
+                out[r, j] = f[t, j]
+                used[f[t, j]] = True
+            r += 1
+    for t in range(new_faces.shape[0]):
+        for j in range(3):
+            out[r, j] = new_faces[t, j]
+            used[new_faces[t, j]] = True
+        r += 1
+    return out, used
 
 
 def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
@@ -526,17 +586,34 @@ def _facing_badly(points, faces, exact, n):
     must face the normal of one of its ordinary vertices (``cos >
     MIN_FACING``) and oppose none (``cos > -MIN_FACING``).
     """
-    a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
-    cross = _cross(b - a, c - a)
-    area2 = np.sqrt(np.einsum("ij,ij->i", cross, cross))
-    scale = np.max([np.einsum("ij,ij->i", d, d) for d in (b - a, c - b, a - c)], axis=0)
-    tn = _unit(cross)
-    bad = area2 <= 1e-6 * scale
-    best = np.full(faces.shape[0], -np.inf)
-    for k in range(3):
-        v = faces[:, k]
-        ordinary = v < n
-        cos = np.einsum("ij,ij->i", tn, exact[np.where(ordinary, v, 0)])
-        bad |= ordinary & (cos < -MIN_FACING)
-        best = np.maximum(best, np.where(ordinary, cos, -np.inf))
-    return bad | (best < MIN_FACING)
+    return _facing_kernel(points, np.ascontiguousarray(faces, dtype=np.int64), exact, n, MIN_FACING)
+
+
+@numba.njit(cache=True, nogil=True)
+def _facing_kernel(points, faces, exact, n, min_facing):
+    m = faces.shape[0]
+    bad = np.zeros(m, np.bool_)
+    for t in range(m):
+        a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
+        ux = points[b, 0] - points[a, 0]; uy = points[b, 1] - points[a, 1]; uz = points[b, 2] - points[a, 2]
+        vx = points[c, 0] - points[a, 0]; vy = points[c, 1] - points[a, 1]; vz = points[c, 2] - points[a, 2]
+        cx = uy * vz - uz * vy; cy = uz * vx - ux * vz; cz = ux * vy - uy * vx
+        area2 = np.sqrt(cx * cx + cy * cy + cz * cz)
+        wx = points[a, 0] - points[c, 0]; wy = points[a, 1] - points[c, 1]; wz = points[a, 2] - points[c, 2]
+        zx = points[c, 0] - points[b, 0]; zy = points[c, 1] - points[b, 1]; zz = points[c, 2] - points[b, 2]
+        scale = max(ux * ux + uy * uy + uz * uz, zx * zx + zy * zy + zz * zz, wx * wx + wy * wy + wz * wz)
+        if area2 <= 1e-6 * scale:
+            bad[t] = True
+            continue
+        best = -np.inf
+        for k in range(3):
+            v = faces[t, k]
+            if v < n:
+                cos = (cx * exact[v, 0] + cy * exact[v, 1] + cz * exact[v, 2]) / area2
+                if cos < -min_facing:
+                    bad[t] = True
+                if cos > best:
+                    best = cos
+        if best < min_facing:
+            bad[t] = True
+    return bad

@@ -60,12 +60,16 @@ def _blobs():
                         capsule((-0.5, -0.5, 0.0), (0.2, 0.6, 0.4), 0.25), blend=0.2)
 
 
+# the plain path (marching cubes, refined), asked for explicitly
 CASES = {
-    "benchmark part N=40": (_bench, dict(resolution=40)),
-    "benchmark part N=40 unrefined": (_bench, dict(resolution=40, refine=False)),
-    "benchmark part N=72 block 8": (_bench, dict(resolution=72, block=8)),
-    "plate with holes N=48": (_plate, dict(resolution=48)),
-    "smooth blobs N=36": (_blobs, dict(resolution=36)),
+    "benchmark part N=40": (_bench, dict(resolution=40, features=False)),
+    "benchmark part N=40 unrefined": (_bench, dict(resolution=40, refine=False, features=False)),
+    "benchmark part N=72 block 8": (_bench, dict(resolution=72, block=8, features=False)),
+    "plate with holes N=48": (_plate, dict(resolution=48, features=False)),
+    "smooth blobs N=36": (_blobs, dict(resolution=36, features=False)),
+    # the feature path on top of the plain one
+    "benchmark part N=40 features": (_bench, dict(resolution=40, features=True)),
+    "plate with holes N=48 features": (_plate, dict(resolution=48, features=True)),
 }
 
 #: Digests and triangle counts of the current mesher (see the module docstring).
@@ -75,6 +79,8 @@ PINNED = {
     "benchmark part N=72 block 8": ("82813a8bfc5a55f0", 71872),
     "plate with holes N=48": ("82827a2865586273", 5804),
     "smooth blobs N=36": ("f8be51919acac7d5", 5892),
+    "benchmark part N=40 features": ("42ede5081de96229", 25280),
+    "plate with holes N=48 features": ("2b9fa168c10179a9", 7080),
 }
 
 
@@ -86,7 +92,7 @@ def test_mesh_is_pinned(name):
 
 
 def test_digest_sees_one_flipped_triangle():
-    m = mesh(_bench(), resolution=24, progress=False)
+    m = mesh(_bench(), resolution=24, progress=False, features=False)
     points, tri = faces_array(m)
     flipped = tri.copy()
     flipped[0] = flipped[0, ::-1]
