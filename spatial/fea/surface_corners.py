@@ -20,8 +20,8 @@ __all__ = ["exact_corners", "snap_exact_corners"]
 def exact_corners(ff: FacetField, mesh) -> np.ndarray:
     """Corners of a feature mesh, put exactly on their three faces of `ff`'s solid, ``(c, 3)``.
 
-    `mesh` is a mesh made with ``features=True`` (of the solid or of a
-    slight offset of it: the faces keep their names).  Corners whose faces
+    `mesh` is a mesh of the same solid made with ``features=True`` (its
+    ``feature_facets`` number the faces as `ff` does).  Corners whose faces
     have no common point nearby are left out.
 
     Examples
@@ -34,14 +34,17 @@ def exact_corners(ff: FacetField, mesh) -> np.ndarray:
     """
     from ..meshing import feature_edges
 
-    if "feature_rank" not in mesh.point_data:
+    if "feature_rank" not in mesh.point_data or "facet_names" not in mesh.field_data:
+        return np.zeros((0, 3))
+    # the mesh's faces are numbered as the tree numbers them, as are ff's (which may rename them)
+    if len(mesh.field_data["facet_names"]) != len(ff.names):
         return np.zeros((0, 3))
     curves = feature_edges(mesh)
-    index = {name: i for i, name in enumerate(ff.names)}
-    rows = [i for i, lab in enumerate(curves.corner_labels) if len(lab) == 3 and all(name in index for name in lab)]
-    if not rows:
+    sets = np.asarray(mesh.point_data["feature_facets"], dtype=np.int64)[curves.corner_vertices]
+    rows = np.flatnonzero((sets >= 0).all(axis=1))
+    if rows.shape[0] == 0:
         return np.zeros((0, 3))
-    sets = np.array([[index[name] for name in curves.corner_labels[i]] for i in rows], dtype=np.int64)
+    sets = sets[rows]
     start = np.asarray(curves.corners, dtype=np.float64)[rows]
     c = solve_on_facets(ff, start, sets, iters=12)
     _, _, fv = ff(c)
