@@ -137,6 +137,19 @@ class FacetField:
         value, dec = self._walk(self.solid, p, vals, names, [0])
         return value, dec, np.stack(vals) if vals else np.zeros((0, p.shape[0]))
 
+    def decide(self, points):
+        """Field and deciding facet at `points` (`__call__` without stacking every facet's field).
+
+        Examples
+        --------
+        >>> from implicit import box, cylinder
+        >>> ff = FacetField(box(2) - cylinder(0.5, 4))
+        >>> [ff.names[i] for i in ff.decide([[0.5, 0.0, 0.0]])[1]]
+        ['cylinder_1.wall']
+        """
+        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+        return self._walk(self.solid, p, [], [], [0])
+
     def facet_values(self, points):
         """Every facet's field ``(k, n)`` alone (no CSG decision: cheaper than calling the field).
 

@@ -264,9 +264,13 @@ def sharpen(solid, points, faces, origin, h):
     # -- 2. exact normals at the vertices of the candidate cells ------------------------------
     pair = np.unique(tcell[:, None] * np.int64(n) + f[tri])  # (cell, vertex), sorted by cell
     pcell, pvert = pair // n, pair % n
-    verts, pinv = np.unique(pvert, return_inverse=True)
+    # the distinct vertices, in order, and each pair's index among them (np.unique without the sort)
+    seen = np.zeros(n, bool)
+    seen[pvert] = True
+    verts = np.flatnonzero(seen)
+    pinv = (np.cumsum(seen) - 1)[pvert]
     # the exact normal of the face deciding the field (closed forms; forward steps of 1e-6 h where none)
-    _, decider, _ = ff(pts[verts])
+    decider = ff.decide(pts[verts])[1]
     normal = _unit(ff.gradients_of(pts[verts], decider, 1e-6 * h))
     normal *= np.where(np.einsum("ij,ij->i", normal, vn[verts]) < 0, -1.0, 1.0)[:, None]
     exact = np.zeros((n, 3))
