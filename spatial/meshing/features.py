@@ -349,7 +349,7 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
 
 def _nearest_on_line(q, t, lo, hi, h, steps=40):
     """Point ``q + s t`` (``|s| <= 2 h``) nearest the box ``[lo, hi]``, per row (golden-section search:
-    the distance to a box along a line is convex)."""
+    the distance to a box along a line is convex), where it is within 0.05 h of the box; else `q`."""
     a = np.full(q.shape[0], -2.0 * h)
     b = np.full(q.shape[0], 2.0 * h)
     g = 0.5 * (np.sqrt(5.0) - 1.0)
@@ -363,7 +363,9 @@ def _nearest_on_line(q, t, lo, hi, h, steps=40):
         left = gap(c) <= gap(d)
         b = np.where(left, d, b)
         a = np.where(left, a, c)
-    return q + (0.5 * (a + b))[:, None] * t
+    s = 0.5 * (a + b)
+    # only a line that passes close by (a curve grazing the cell); others keep their point
+    return q + np.where(gap(s) < (0.05 * h) ** 2, s, 0.0)[:, None] * t
 
 
 def _newton(ff, q, idx, used, h, steps):
