@@ -80,14 +80,15 @@ def _solid_level(solid, h, c0, mesher, correct=True, check=False) -> np.ndarray:
     return level_moments(solid, pts, tri, c0, voxel_size=h, correct=correct)
 
 
-def level_moments(solid, pts, tri, c0, *, voxel_size, correct=True) -> np.ndarray:
+def level_moments(solid, pts, tri, c0, *, voxel_size, correct=True, vertex_normals=None) -> np.ndarray:
     """Raw moments (14,) of the triangles `tri` of `pts` about `c0`: thin-shell corrected, with the true area.
 
     The moments are sums over the triangles, so those of a mesh cut in parts
     are the sum of the parts' (`spatial.distributed` adds them up brick by
     brick).  The true area weighs each triangle with the normals of its
-    vertices, which a part only knows from its own triangles: summed over
-    parts it differs slightly where the parts meet.
+    vertices, which a part only knows from its own triangles: a part passes
+    the whole mesh's (`vertex_normals`, see `mass_area.true_area`) to get
+    the whole mesh's weights.
     """
     h = voxel_size
     kernels = _kernels()
@@ -103,7 +104,7 @@ def level_moments(solid, pts, tri, c0, *, voxel_size, correct=True) -> np.ndarra
             vec[:13] += _shell_of(solid, a, b, c, area, c0)
     if correct:
         # the true surface's area over the mesh, not the mesh's own (bevelled at every sharp edge)
-        vec[13] = true_area(solid, pts, tri, voxel_size=h)
+        vec[13] = true_area(solid, pts, tri, voxel_size=h, vertex_normals=vertex_normals)
     return vec
 
 

@@ -6,7 +6,7 @@ import threading
 
 from ..files.progress import wants_progress
 
-__all__ = ["run_bricks"]
+__all__ = ["run_bricks", "show"]
 
 
 def run_bricks(client, function, spec, bricks, *, progress=None, extra=None, name="brick"):
@@ -46,3 +46,11 @@ def run_bricks(client, function, spec, bricks, *, progress=None, extra=None, nam
                 f.cancel()
         if bar is not None:
             bar.join(timeout=5)
+
+
+def show(futures, progress=None):
+    """Dask's text progress bar over `futures` until they finish (on a terminal, or with ``progress=True``)."""
+    if futures and wants_progress(progress):
+        from distributed import progress as dask_progress
+
+        dask_progress(futures, multi=False)
