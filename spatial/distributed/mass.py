@@ -23,6 +23,7 @@ from ..meshing.blocks import check_block
 from .cluster import check_client, connect
 from .plan import DEFAULT_BRICK, check_brick, plan_bricks
 from .run import show
+from .warn import user_warnings
 from .worker import brick_area_moments, mesh_brick_normals, shared_normals
 
 __all__ = ["mass_properties", "level_moments_on"]
@@ -78,6 +79,7 @@ def level_moments_on(client, *, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progre
     return moments
 
 
+@user_warnings
 def mass_properties(solid, *, client=None, workers=None, density=1.0, units="m", tolerance=None,
                     voxel_size=None, resolution=None, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progress=None):
     """Mass properties of a solid, its meshes integrated brick by brick on a Dask cluster.
@@ -92,7 +94,9 @@ def mass_properties(solid, *, client=None, workers=None, density=1.0, units="m",
     client, workers
         See `spatial.distributed.mesh`.
     density, units, tolerance, voxel_size, resolution
-        See `spatial.analysis.mass_properties`.
+        See `spatial.analysis.mass_properties`; with neither `voxel_size`
+        nor `resolution` the levels are those the single-process path
+        chooses (from the part's size and its thinnest wall).
     brick, block
         See `spatial.distributed.mesh`.
 
