@@ -172,3 +172,33 @@ def test_single_process_thin_wall_warning_points_at_the_caller_too():
         spatial.mesh(thin_plate(), resolution=16, progress=False)
     thin = [w for w in caught if "thinnest wall" in str(w.message)]
     assert len(thin) == 1 and thin[0].filename == __file__
+
+
+def test_cli_mesh_on_the_cluster_shows_dasks_progress_bar(client, tmp_path, capsys):
+    from implicit.serialize import to_json
+    from spatial.cli import main
+
+    model = tmp_path / "ball.json"
+    model.write_text(to_json(sphere(1.0)))
+    out = tmp_path / "ball.stl"
+    assert main(["mesh", str(model), "-o", str(out), "--resolution", "64", "--scheduler",
+                 client.scheduler.address, "--brick", "32", "--progress"]) == 0
+    text = capsys.readouterr().out
+    # distributed.diagnostics.progressbar.TextProgressBar: "[####...] | 100% Completed |  0.1s"
+    assert "100% Completed" in text and "#" in text
+    assert "ball.stl:" in text and "watertight yes" in text
+    assert main(["mesh", str(model), "-o", str(out), "--resolution", "64", "--scheduler",
+                 client.scheduler.address, "--brick", "32", "--quiet"]) == 0
+    assert "Completed" not in capsys.readouterr().out
+
+
+def test_cli_mesh_help_documents_the_cluster_flags(capsys):
+    from spatial.cli import main
+
+    with pytest.raises(SystemExit) as stop:
+        main(["mesh", "--help"])
+    assert stop.value.code == 0
+    text = " ".join(capsys.readouterr().out.split())
+    for flag in ("--workers N", "--scheduler ADDRESS", "--brick B"):
+        assert flag in text
+    assert "local Dask cluster" in text and "Dask's progress bar" in text
