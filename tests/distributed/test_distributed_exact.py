@@ -202,3 +202,34 @@ def test_cli_mesh_help_documents_the_cluster_flags(capsys):
     for flag in ("--workers N", "--scheduler ADDRESS", "--brick B"):
         assert flag in text
     assert "local Dask cluster" in text and "Dask's progress bar" in text
+
+
+def test_level_moments_of_a_mesh_cut_in_parts_sum_to_the_whole():
+    """The moments' sums do not drift with the number of triangles, so bricks summed on a client give
+    the single-process figures to rounding at any N (a plain running sum over these 0.9 M triangles was
+    off by 4.6e-12 of the volume, the bricks' sum by 8e-14)."""
+    import math
+
+    from spatial.analysis.mass_core import _faces_array
+    from spatial.analysis.mass_solid import level_moments
+    from spatial.meshing import mesh as single
+
+    part = (sphere(1.0) & box(1.5)) - cylinder(0.5, 4.0, axis=(1, 0, 0)) - cylinder(0.5, 4.0, axis=(0, 1, 0)) \
+        - cylinder(0.5, 4.0, axis=(0, 0, 1))
+    pts, tri = _faces_array(single(part, resolution=256, progress=False))
+    assert tri.shape[0] > 900_000
+    lo, hi = part.bounds
+    c0 = 0.5 * (lo + hi)
+    whole = level_moments(part, pts, tri, c0, voxel_size=1.5 / 256, correct=False)
+    # cut as bricks are: by the cell of each triangle's first vertex
+    cell = np.floor((pts[tri[:, 0]] - lo) / 0.4).astype(int)
+    key = (cell[:, 0] * 16 + cell[:, 1]) * 16 + cell[:, 2]
+    parts = [level_moments(part, pts, tri[key == k], c0, voxel_size=1.5 / 256, correct=False)
+             for k in np.unique(key)]
+    assert len(parts) > 30
+    summed = np.sum(parts, axis=0)
+    a, b, c = (pts[tri[:, i]] - c0 for i in range(3))
+    exact = math.fsum(np.einsum("ij,ij->i", a, np.cross(b - a, c - a)) / 6.0)
+    for got in (whole[0], summed[0]):
+        assert abs(got / exact - 1) < 1e-13
+    np.testing.assert_allclose(summed, whole, rtol=1e-13, atol=1e-13 * np.abs(whole).max())
