@@ -27,12 +27,12 @@ from .cluster import check_client, connect
 from .plan import DEFAULT_BRICK, check_brick, plan_bricks
 from .run import show
 from .warn import user_warnings
-from .worker import brick_area_moments, mesh_brick_normals, shared_normals
+from .worker import brick_area_moments, brick_area_moments_again, brick_rim, mesh_brick_normals, shared_normals
 
 __all__ = ["mass_properties", "level_moments_on"]
 
 
-def level_moments_on(client, *, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progress=None):
+def level_moments_on(client, *, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progress=None, hold_meshes=True):
     """``moments(solid, h, center) -> (14,)``: the corrected mesh's raw moments at cell size ``h``, summed
     over the bricks meshed on `client`.
 
@@ -40,7 +40,10 @@ def level_moments_on(client, *, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progre
     worker, sending back only the partial vertex normals of the vertices on
     its faces; the client sums those by lattice-edge id and hands every brick
     the sums at its own, and the brick integrates its triangles -- with the
-    true area weighed by the whole mesh's vertex normals.
+    true area weighed by the whole mesh's vertex normals.  With
+    ``hold_meshes=False`` no mesh is held between the rounds: each brick is
+    meshed again in the second (the same mesh, for twice the meshing), so a
+    worker's memory stays bounded by one brick.
     """
 
     def moments(solid, h, center):
@@ -50,11 +53,16 @@ def level_moments_on(client, *, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progre
             return np.zeros(14)
         centre = tuple(float(v) for v in center)
         spec_f = client.scatter(plan.spec, broadcast=True, hash=False)
-        meshes = [client.submit(mesh_brick_normals, spec_f, tuple(int(v) for v in b), pure=False,
-                                key=f"moments-mesh-{i}-{spec_f.key}") for i, b in enumerate(plan.bricks)]
+        bricks = [tuple(int(v) for v in b) for b in plan.bricks]
+        meshes = [client.submit(mesh_brick_normals, spec_f, b, pure=False, key=f"moments-mesh-{i}-{spec_f.key}")
+                  for i, b in enumerate(bricks)] if hold_meshes else []
         try:
-            rims = [client.submit(shared_normals, m, pure=False, key=f"moments-rim-{i}-{spec_f.key}")
-                    for i, m in enumerate(meshes)]
+            if hold_meshes:
+                rims = [client.submit(shared_normals, m, pure=False, key=f"moments-rim-{i}-{spec_f.key}")
+                        for i, m in enumerate(meshes)]
+            else:
+                rims = [client.submit(brick_rim, spec_f, b, pure=False, key=f"moments-rim-{i}-{spec_f.key}")
+                        for i, b in enumerate(bricks)]
             show(rims, progress)
             rim = client.gather(rims)
             del rims
@@ -66,8 +74,10 @@ def level_moments_on(client, *, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progre
             for i in range(k):
                 mine = inverse[bounds[i]:bounds[i + 1]]
                 order = np.argsort(uniq[mine])
-                parts.append(client.submit(brick_area_moments, meshes[i], spec_f, centre, uniq[mine][order],
-                                           sums[mine][order], pure=False, key=f"moments-area-{i}-{spec_f.key}"))
+                args = (meshes[i], spec_f) if hold_meshes else (spec_f, bricks[i])
+                parts.append(client.submit(brick_area_moments if hold_meshes else brick_area_moments_again, *args,
+                                           centre, uniq[mine][order], sums[mine][order], pure=False,
+                                           key=f"moments-area-{i}-{spec_f.key}"))
             del rim, edges, inverse, sums
             show(parts, progress)
             vecs = [out["moments"] for out in client.gather(parts)]
@@ -83,7 +93,8 @@ def level_moments_on(client, *, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progre
 
 @user_warnings
 def mass_properties(solid, *, client=None, workers=None, density=1.0, units="m", tolerance=None,
-                    voxel_size=None, resolution=None, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progress=None):
+                    voxel_size=None, resolution=None, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, progress=None,
+                    hold_meshes=True):
     """Mass properties of a solid, its meshes integrated brick by brick on a Dask cluster.
 
     The same computation as `spatial.analysis.mass_properties` for a Solid
@@ -101,6 +112,11 @@ def mass_properties(solid, *, client=None, workers=None, density=1.0, units="m",
         chooses (from the part's size and its thinnest wall).
     brick, block
         See `spatial.distributed.mesh`.
+    hold_meshes : bool
+        Keep each brick's mesh on its worker between the two rounds of a
+        level (default; Dask spills them to disk under memory pressure), or
+        mesh every brick again for the second round (twice the meshing, a
+        worker's memory bounded by one brick).  The same result either way.
 
     Returns
     -------
@@ -119,7 +135,10 @@ def mass_properties(solid, *, client=None, workers=None, density=1.0, units="m",
         raise TypeError(f"solid: expected an implicit.Solid, got {type(solid).__name__}")
     check_client(client, workers)
     check_brick(brick, check_block(block))
+    if not isinstance(hold_meshes, (bool, np.bool_)):
+        raise TypeError(f"hold_meshes: expected True or False, got {hold_meshes!r}")
     with connect(client, workers) as c:
         return _mass_properties(solid, density=density, units=units, tolerance=tolerance, voxel_size=voxel_size,
                                 resolution=resolution,
-                                moments=level_moments_on(c, brick=brick, block=block, progress=progress))
+                                moments=level_moments_on(c, brick=brick, block=block, progress=progress,
+                                                         hold_meshes=bool(hold_meshes)))

@@ -21,7 +21,7 @@ from ..meshing import mesh_cells
 from ..meshing.boundary import boundary_cells_2h
 
 __all__ = ["solid_from_json", "mesh_brick", "brick_moments", "write_brick_part", "brick_band", "peak_rss",
-           "mesh_brick_normals", "shared_normals", "brick_area_moments"]
+           "mesh_brick_normals", "shared_normals", "brick_area_moments", "brick_rim", "brick_area_moments_again"]
 
 
 @functools.lru_cache(maxsize=8)
@@ -234,3 +234,14 @@ def brick_area_moments(part, spec, center, edges, normals, correct=True):
                             np.asarray(center, dtype=np.float64), voxel_size=spec.voxel_size, correct=correct,
                             vertex_normals=vn)
     return dict(moments=vec, triangles=int(part["faces"].shape[0]))
+
+
+def brick_rim(spec, brick):
+    """`shared_normals` of a brick meshed here, nothing kept (the brick is meshed again for its moments)."""
+    return shared_normals(mesh_brick_normals(spec, brick))
+
+
+def brick_area_moments_again(spec, brick, center, edges, normals, correct=True):
+    """`brick_area_moments` of a brick meshed again (the same mesh: meshing is a pure function of the
+    brick), so that no worker holds a mesh between the two rounds."""
+    return brick_area_moments(mesh_brick_normals(spec, brick), spec, center, edges, normals, correct=correct)

@@ -233,3 +233,16 @@ def test_level_moments_of_a_mesh_cut_in_parts_sum_to_the_whole():
     for got in (whole[0], summed[0]):
         assert abs(got / exact - 1) < 1e-13
     np.testing.assert_allclose(summed, whole, rtol=1e-13, atol=1e-13 * np.abs(whole).max())
+
+
+def test_mass_properties_without_holding_meshes_are_the_same(client):
+    from spatial.distributed import mass_properties
+
+    part = box(1.0) - sphere(0.25)
+    held = mass_properties(part, resolution=32, client=client, brick=16, block=16)
+    again = mass_properties(part, resolution=32, client=client, brick=16, block=16, hold_meshes=False)
+    assert (again.volume, again.area) == (held.volume, held.area)
+    np.testing.assert_array_equal(again.inertia, held.inertia)
+    assert held.volume == pytest.approx(1.0 - 4 / 3 * np.pi * 0.25 ** 3, rel=1e-3)
+    with pytest.raises(TypeError, match="hold_meshes"):
+        mass_properties(part, resolution=32, client=client, brick=16, block=16, hold_meshes="no")
