@@ -28,6 +28,7 @@ from .cells import min_feature_size  # noqa: F401
 from .files import save_mesh, load_mesh  # noqa: F401
 from .meshing import mesh as _mesh_here, feature_edges, FeatureCurves  # noqa: F401
 from .analysis import MassProperties, ToleranceError, mass_properties as _mass_here  # noqa: F401
+from .distributed.warn import user_warnings as _user_warnings  # noqa: E402
 from .analysis import Topology, ValidityReport, topology, check, triangle_defects  # noqa: F401
 # (the functions `section` and `interference` stay in their modules, whose names they share)
 from .analysis import Section  # noqa: F401
@@ -60,7 +61,8 @@ def mesh(solid, *, client=None, workers=None, **options):
     True
     """
     if client is None and workers is None:
-        return _mesh_here(solid, **options)
+        # (warnings at the caller's line, not this wrapper's)
+        return _user_warnings(_mesh_here)(solid, **options)
     from .distributed import mesh as _mesh_on_cluster
 
     return _mesh_on_cluster(solid, client=client, workers=workers, **options)
@@ -80,7 +82,7 @@ def mass_properties(obj, *, client=None, workers=None, **options):
     2.0
     """
     if client is None and workers is None:
-        return _mass_here(obj, **options)
+        return _user_warnings(_mass_here)(obj, **options)
     from .distributed import mass_properties as _mass_on_cluster
 
     return _mass_on_cluster(obj, client=client, workers=workers, **options)

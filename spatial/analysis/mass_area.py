@@ -107,7 +107,7 @@ def _jacobians(solid, a, e1, e2, da, du, dv, bary, step):
     return np.minimum(num / den, MAX_WEIGHT).reshape(m, k)
 
 
-def true_area(solid, points, triangles, *, voxel_size) -> float:
+def true_area(solid, points, triangles, *, voxel_size, vertex_normals=None) -> float:
     """Area of the surface of `solid` over a mesh of it (see the module notes).
 
     Parameters
@@ -118,6 +118,10 @@ def true_area(solid, points, triangles, *, voxel_size) -> float:
     triangles : (m, 3) int
     voxel_size : float
         The mesh's cell size (sets the finite-difference step).
+    vertex_normals : (n, 3) float, optional
+        Area-weighted vertex normals (sums of the incident triangles' cross
+        products) to use in place of those of `triangles`: a part of a mesh
+        then gets the weights the whole mesh gives it (`spatial.distributed`).
 
     Returns
     -------
@@ -142,9 +146,12 @@ def true_area(solid, points, triangles, *, voxel_size) -> float:
     n = _unit(cross)
     # vertex normals (area-weighted): a direction field continuous across
     # edges, so the rays of neighbouring triangles neither overlap nor leave gaps
-    vn = np.zeros_like(pts)
-    for q in range(3):
-        np.add.at(vn, tri[:, q], cross)
+    if vertex_normals is None:
+        vn = np.zeros_like(pts)
+        for q in range(3):
+            np.add.at(vn, tri[:, q], cross)
+    else:
+        vn = np.array(vertex_normals, dtype=np.float64).reshape(pts.shape)
     vn = _unit(vn)
     step = 1e-4 * float(voxel_size)
     gv = _unit(solid.gradient(pts, step=step))

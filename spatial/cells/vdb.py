@@ -14,6 +14,7 @@ import numpy as np
 
 from ..files.atomic import atomic_write
 from ..files.meshes import load_mesh
+from .sparse_grid import TILE, SparseGridSolid
 
 __all__ = ["mesh_to_solid", "save_vdb", "load_vdb", "vdb_metadata", "import_openvdb", "VDB_HALF_WIDTH"]
 
@@ -43,22 +44,74 @@ def _check_vdb_path(path):
         raise ValueError(f"{os.fspath(path)}: expected a .vdb file name")
 
 
-def _grid_to_solid(grid, pad=2):
-    """A GridSolid of a FloatGrid level set (active bounding box plus `pad` voxels)."""
-    from implicit.fields import GridSolid
+#: Active boxes up to this many voxels are read into one dense `GridSolid` (at most 32 MB of float64);
+#: larger ones into a `SparseGridSolid` of the band's tiles.
+DENSE_VOXELS = 1 << 22
 
+
+def _grid_to_solid(grid, pad=2, dense=None):
+    """A solid of a FloatGrid level set: a dense `GridSolid` over its active box (plus `pad` voxels) when
+    that box is small (`DENSE_VOXELS`) or `dense` is True, otherwise a `SparseGridSolid` of the tiles the
+    band occupies -- memory proportional to the active voxels, never to the box."""
     lo, hi = grid.evalActiveVoxelBoundingBox()
-    lo = np.array(lo, dtype=np.int64) - pad
-    hi = np.array(hi, dtype=np.int64) + pad
-    arr = np.empty(tuple(int(v) for v in hi - lo + 1), dtype=np.float32)
-    grid.copyToArray(arr, ijk=tuple(int(v) for v in lo))
+    lo = np.array(lo, dtype=np.int64)
+    hi = np.array(hi, dtype=np.int64)
+    if np.any(lo > hi):
+        raise ValueError("VDB grid: no active voxels")
     xform = grid.transform
-    origin = np.array(xform.indexToWorld(tuple(int(v) for v in lo)), dtype=np.float64)
-    step = np.array(xform.indexToWorld(tuple(int(v) + 1 for v in lo)), dtype=np.float64) - origin
+    origin = np.array(xform.indexToWorld((0, 0, 0)), dtype=np.float64)
+    step = np.array(xform.indexToWorld((1, 1, 1)), dtype=np.float64) - origin
     h = float(step[0])
     if not np.allclose(step, h, rtol=1e-9):
         raise ValueError(f"VDB grid: expected a uniform voxel size, got {step.tolist()}")
-    return GridSolid(arr, origin=origin, voxel_size=h)
+    box = np.prod((hi - lo + 1 + 2 * pad).astype(np.float64))
+    if dense or (dense is None and box <= DENSE_VOXELS):
+        from implicit.fields import GridSolid
+
+        lo, hi = lo - pad, hi + pad
+        arr = np.empty(tuple(int(v) for v in hi - lo + 1), dtype=np.float32)
+        grid.copyToArray(arr, ijk=tuple(int(v) for v in lo))  # inactive voxels and tiles: +-background
+        return GridSolid(arr, origin=origin + lo * h, voxel_size=h)
+    return _sparse_solid(grid, origin, h)
+
+
+def _band_tiles(grid, origin, h):
+    """Indices (k, 3) of the tiles of `TILE**3` voxels that may hold active voxels, found sparsely.
+
+    The zero level (`FloatGrid.convertToQuads`, a mesh of the surface) marks
+    the tiles it crosses; every active voxel of a narrow band lies within
+    the band's half width (background / h voxels) of it, hence within that
+    many tiles, by which the marked ones are dilated.  A grid with no zero
+    level has no surface to keep.
+    """
+    points, _ = grid.convertToQuads(0.0)
+    points = np.asarray(points, dtype=np.float64)
+    if points.shape[0] == 0:
+        raise ValueError("VDB grid: no zero level (no surface) in the grid")
+    keys = np.unique(np.floor((points - origin) / (h * TILE)).astype(np.int64), axis=0)
+    del points
+    reach = max(int(np.ceil(abs(float(grid.background)) / h / TILE)), 1)
+    span = np.arange(-reach, reach + 1)
+    offsets = np.stack(np.meshgrid(span, span, span, indexing="ij"), -1).reshape(-1, 3)
+    return np.unique((keys[:, None, :] + offsets[None]).reshape(-1, 3), axis=0)
+
+
+def _sparse_solid(grid, origin, h):
+    """A `SparseGridSolid` of the grid's band: each candidate tile read with one `copyToArray` (a call per
+    tile, never per voxel), tiles holding nothing but the background dropped."""
+    keys = _band_tiles(grid, origin, h)
+    n = TILE + 1
+    bg = abs(float(grid.background))
+    kept, samples = [], []
+    tile = np.empty((n, n, n), dtype=np.float32)
+    for row, key in enumerate(keys):
+        grid.copyToArray(tile, ijk=tuple(int(v) * TILE for v in key))
+        if np.any(np.abs(tile) < bg):  # background only: the bound outside the tiles says as much
+            kept.append(row)
+            samples.append(tile.copy())
+    if not kept:
+        raise ValueError("VDB grid: no values inside its band")
+    return SparseGridSolid(keys[kept], np.stack(samples), origin=origin, voxel_size=h)
 
 
 def _open_edges(faces: np.ndarray) -> int:
@@ -251,9 +304,36 @@ def save_vdb(solid_or_grid, path, *, voxel_size=None, units="mm", name="surface"
     return atomic_write(path, lambda tmp: vdb.write(tmp, grids=[grid]), ".vdb")
 
 
-def load_vdb(path):
-    """Read the first float grid of a .vdb file as a `GridSolid`."""
+def load_vdb(path, *, dense=None):
+    """Read the first float grid of a .vdb file as a solid.
+
+    Sparse in, sparse out: a grid whose active box is small (at most
+    `DENSE_VOXELS`, or with ``dense=True``) is read into one dense
+    `GridSolid`; a larger one into a `SparseGridSolid` holding only the
+    tiles of its narrow band (found from its zero level, read tile by tile),
+    so that memory follows the active voxels, not the box: two small balls a
+    thousand voxels apart take kilobytes, not the box's 4 GB.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A .vdb file.
+    dense : bool, optional
+        Force the dense (True) or the sparse (False) form.
+
+    Returns
+    -------
+    GridSolid or SparseGridSolid
+
+    Examples
+    --------
+    >>> solid = load_vdb("part.vdb")  # doctest: +SKIP
+    >>> solid([[0.0, 0.0, 0.0]])  # doctest: +SKIP
+    array([-0.5])
+    """
     _check_vdb_path(path)
+    if dense is not None and not isinstance(dense, (bool, np.bool_)):
+        raise TypeError(f"dense: expected True, False or None, got {dense!r}")
     if not os.path.exists(os.fspath(path)):
         raise FileNotFoundError(2, "No such file", os.fspath(path))
     vdb = import_openvdb()
@@ -261,7 +341,7 @@ def load_vdb(path):
     floats = [g for g in grids if isinstance(g, vdb.FloatGrid)]
     if not floats:
         raise ValueError(f"{os.fspath(path)}: no float grid in the file")
-    return _grid_to_solid(floats[0])
+    return _grid_to_solid(floats[0], dense=dense)
 
 
 def vdb_metadata(path) -> dict:

@@ -24,7 +24,10 @@ DESCRIPTION = (
     "Mesh a model's boundary with marching cubes over the octree's boundary cells and write it; "
     "the format follows the output's extension (.stl binary, .ply, .obj, .vtp, .vtk). "
     "Give the cell size with --voxel-size or the cells across the part with --resolution; with neither, "
-    "the cell size comes from the part's size and its thinnest wall (four cells through it)."
+    "the cell size comes from the part's size and its thinnest wall (four cells through it). "
+    "With --workers N (a local Dask cluster of N processes) or --scheduler ADDRESS (a running Dask "
+    "scheduler) the part is meshed brick by brick on the cluster -- the same triangles, the same default "
+    "cell size -- with Dask's progress bar; a .pvtp output is then written in parts, one .vtp per brick."
 )
 
 

@@ -17,11 +17,14 @@ import warnings
 
 import numpy as np
 
+from ..cells.thickness import WALL_VOXELS, default_voxel_size, thinnest_wall
 from ..meshing import DEFAULT_BLOCK, empty_mesh
+from ..meshing.features import sharpen
 from .cluster import check_client, connect
 from .parts import PartitionedMesh, merge_parts, write_pvtp
 from .plan import DEFAULT_BRICK, plan_bricks
 from .run import run_bricks
+from .warn import user_warnings
 from .worker import mesh_brick, write_brick_part
 
 __all__ = ["mesh"]
@@ -40,8 +43,17 @@ def _check_parts(parts):
     return path
 
 
+def _warn_thin(solid, h):
+    """The single-process mesher's warning when the voxel is coarser than half the thinnest wall."""
+    t, what = thinnest_wall(solid)
+    if np.isfinite(t) and h > t / 2:
+        warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half the thinnest wall ({what}: {t:.4g}); "
+                      f"the wall may be lost; voxel_size={t / WALL_VOXELS:.4g} keeps it", RuntimeWarning)
+
+
+@user_warnings
 def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, bounds=None, refine=True,
-         progress=None, block=DEFAULT_BLOCK, brick=DEFAULT_BRICK, parts=None):
+         progress=None, block=DEFAULT_BLOCK, brick=DEFAULT_BRICK, parts=None, features=False):
     """Closed, outward-oriented boundary mesh of a solid, meshed brick by brick on a Dask cluster.
 
     Parameters
@@ -54,7 +66,14 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
     workers : int, optional
         Worker processes of the local cluster.
     voxel_size, resolution, bounds, refine, progress, block
-        As `spatial.meshing.mesh`; `progress` shows Dask's progress bar.
+        As `spatial.meshing.mesh` (with neither `voxel_size` nor
+        `resolution`, the same default voxel from the part's size and
+        thinnest wall); `progress` shows Dask's progress bar.
+    features : bool
+        Rebuild sharp edges and corners as `spatial.meshing.mesh` does: the
+        bricks' meshes are fused on the client and the feature pass
+        (`spatial.meshing.features.sharpen`) runs there over the whole mesh,
+        so the result is the single-process one.  Not with `parts`.
     brick : int
         Voxels per side of the octree cell one task meshes (a power of two,
         a multiple of `block`); it bounds a worker's memory.
@@ -80,9 +99,21 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
     t0 = time.perf_counter()
     check_client(client, workers)
     index = _check_parts(parts)
+    if not isinstance(features, (bool, np.bool_)):
+        raise TypeError(f"features: expected True or False, got {features!r}")
+    if features and index is not None:
+        raise ValueError("features: the feature pass needs the whole mesh; give parts= or features=True, not both")
+    if voxel_size is None and resolution is None:
+        from implicit import Solid
+
+        if not isinstance(solid, Solid):
+            raise TypeError(f"solid: expected an implicit.Solid, got {type(solid).__name__}")
+        # the voxel of the single-process mesher: from the part's size and its thinnest wall
+        voxel_size = default_voxel_size(solid, bounds)
     plan = plan_bricks(solid, voxel_size=voxel_size, resolution=resolution, bounds=bounds, refine=refine,
                        block=block, brick=brick)
     h = plan.spec.voxel_size
+    _warn_thin(plan.lattice.solid, h)
     if plan.lattice.empty or plan.bricks.shape[0] == 0:
         what = "the solid is empty (its bounds enclose nothing)" if plan.lattice.empty else \
             "no boundary in the region (the solid is empty there or fills it)"
@@ -120,7 +151,15 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
         warnings.warn("mesh: no surface crosses the sampled nodes (features thinner than the voxel size?); "
                       "returning an empty mesh", RuntimeWarning, stacklevel=2)
         return empty_mesh(h, evaluations)
+    if features:
+        sharp = sharpen(plan.lattice.solid, points, faces, np.asarray(plan.lattice.origin, dtype=np.float64), h)
+        points, faces = sharp["points"], sharp["faces"]
     out = pv.PolyData.from_regular_faces(points, faces)
+    if features:
+        out.point_data["feature_rank"] = sharp["feature_rank"]
+        out.point_data["feature_facets"] = sharp["feature_facets"]
+        out.field_data["facet_names"] = np.array(sharp["facet_names"] or [""])
+        out.field_data["feature_cells"] = np.array([sharp["feature_cells"]], dtype=np.int64)
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
     out.field_data["boundary_cells"] = np.array([cells], dtype=np.int64)

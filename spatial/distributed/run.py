@@ -6,7 +6,7 @@ import threading
 
 from ..files.progress import wants_progress
 
-__all__ = ["run_bricks"]
+__all__ = ["run_bricks", "show"]
 
 
 def run_bricks(client, function, spec, bricks, *, progress=None, extra=None, name="brick"):
@@ -26,12 +26,18 @@ def run_bricks(client, function, spec, bricks, *, progress=None, extra=None, nam
         futures.append(client.submit(function, spec_f, tuple(int(v) for v in b), *args, pure=False,
                                      key=f"{name}-{i}-{spec_f.key}"))
     index = {f.key: i for i, f in enumerate(futures)}
-    bar = None
+    bar, marks = None, []
     if futures and wants_progress(progress):
         from distributed import progress as dask_progress
 
-        # the bar blocks while it draws: it draws from a thread, the results are read here
-        bar = threading.Thread(target=dask_progress, args=(futures,), kwargs=dict(multi=False), daemon=True)
+        # The bar follows one tiny task per brick, run once the brick is done, which this function holds
+        # to the end: the bricks' own results are released as soon as read, and a bar that connects late
+        # (a loaded machine) would wait forever for keys already forgotten.  It blocks while it draws:
+        # it draws from a thread, the results are read here.
+        marks = [client.submit(_done, f, pure=False, key=f"{name}-done-{i}-{spec_f.key}")
+                 for i, f in enumerate(futures)]
+        bar = threading.Thread(target=dask_progress, args=(marks,), kwargs=dict(multi=False, complete=False),
+                               daemon=True)
         bar.start()
     try:
         for future in as_completed(futures):
@@ -44,5 +50,23 @@ def run_bricks(client, function, spec, bricks, *, progress=None, extra=None, nam
         for f in futures:
             if f is not None:
                 f.cancel()
+        for m in marks:
+            if not m.done():
+                m.cancel()  # (an error above): the bar stops on a cancelled mark
         if bar is not None:
-            bar.join(timeout=5)
+            bar.join(timeout=60)  # every mark is done or cancelled: the bar ends
+        for m in marks:
+            m.release()
+
+
+def _done(result):
+    """The mark of a finished brick (`run_bricks`'s progress bar counts these)."""
+    return None
+
+
+def show(futures, progress=None):
+    """Dask's text progress bar over `futures` until they finish (on a terminal, or with ``progress=True``)."""
+    if futures and wants_progress(progress):
+        from distributed import progress as dask_progress
+
+        dask_progress(futures, multi=False)

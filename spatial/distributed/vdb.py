@@ -21,6 +21,7 @@ from ..meshing import DEFAULT_BLOCK
 from .cluster import check_client, connect
 from .plan import DEFAULT_BRICK, plan_bricks
 from .run import run_bricks
+from .warn import user_warnings
 from .worker import brick_band
 
 __all__ = ["level_set_vdb", "save_level_set_vdb"]
@@ -49,6 +50,7 @@ def _write_nodes(grid, nodes, values, block, band):
         grid.copyFromArray(dense[k], ijk=corners[k], tolerance=0.0)
 
 
+@user_warnings
 def level_set_vdb(solid, *, client=None, workers=None, voxel_size=None, resolution=None, bounds=None,
                   half_width=VDB_HALF_WIDTH, brick=DEFAULT_BRICK, block=DEFAULT_BLOCK, name="surface",
                   units="mm", progress=None):
@@ -80,6 +82,10 @@ def level_set_vdb(solid, *, client=None, workers=None, voxel_size=None, resoluti
     if not isinstance(units, str) or not isinstance(name, str):
         raise TypeError("name, units: expected strings")
     vdb = import_openvdb()
+    if voxel_size is None and resolution is None:
+        from ..cells.thickness import default_voxel_size
+
+        voxel_size = default_voxel_size(solid, bounds)  # the single-process mesher's voxel
     plan = plan_bricks(solid, voxel_size=voxel_size, resolution=resolution, bounds=bounds, block=block,
                        brick=brick)
     h = plan.spec.voxel_size
@@ -103,6 +109,7 @@ def level_set_vdb(solid, *, client=None, workers=None, voxel_size=None, resoluti
     return grid
 
 
+@user_warnings
 def save_level_set_vdb(solid, path, **options):
     """Write the sparse level set of `level_set_vdb` to a .vdb file (atomically); returns the path.
 

@@ -20,7 +20,8 @@ from ..cells.lattice import CHILD_OFFSETS, Lattice
 from ..meshing import mesh_cells
 from ..meshing.boundary import boundary_cells_2h
 
-__all__ = ["solid_from_json", "mesh_brick", "brick_moments", "write_brick_part", "brick_band", "peak_rss"]
+__all__ = ["solid_from_json", "mesh_brick", "brick_moments", "write_brick_part", "brick_band", "peak_rss",
+           "mesh_brick_normals", "shared_normals", "brick_area_moments", "brick_rim", "brick_area_moments_again"]
 
 
 @functools.lru_cache(maxsize=8)
@@ -191,3 +192,56 @@ def brick_band(spec, brick):
 def peak_rss():
     """Peak resident memory of this process, in bytes (Linux reports kilobytes)."""
     return int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024
+
+
+def mesh_brick_normals(spec, brick):
+    """`mesh_brick` plus the brick's share of the area-weighted vertex normals, ``normals`` (v, 3): the sum
+    of the cross products of the brick's triangles at each vertex.  A vertex off the brick's faces has
+    all its triangles in the brick; one on a face gets the rest from its neighbours (`brick_area_moments`)."""
+    part = mesh_brick(spec, brick)
+    pts, tri = part["points"], part["faces"].astype(np.int64)
+    vn = np.zeros_like(pts)
+    if tri.shape[0]:
+        a = pts[tri[:, 0]]
+        cross = np.cross(pts[tri[:, 1]] - a, pts[tri[:, 2]] - a)
+        for q in range(3):  # the order of `spatial.analysis.mass_area.true_area`
+            np.add.at(vn, tri[:, q], cross)
+    part["normals"] = vn
+    return part
+
+
+def shared_normals(part):
+    """The lattice-edge ids and partial normals of a brick's vertices on its faces (all its neighbours
+    need of it)."""
+    keep = part["shared"]
+    return dict(edges=part["edges"][keep], normals=part["normals"][keep])
+
+
+def brick_area_moments(part, spec, center, edges, normals, correct=True):
+    """Raw moments (14,) of the corrected mesh of one brick (`part` from `mesh_brick_normals`), the true
+    area weighed with the whole mesh's vertex normals: ``normals`` (k, 3) summed over every brick at the
+    sorted lattice-edge ids ``edges`` (k,) of this brick's shared vertices."""
+    from ..analysis.mass_solid import level_moments
+
+    vec = np.zeros(14)
+    if part["faces"].shape[0]:
+        vn = part["normals"].copy()
+        rows = np.flatnonzero(part["shared"])
+        if rows.size:
+            at = np.searchsorted(edges, part["edges"][rows])
+            vn[rows] = normals[at]
+        vec = level_moments(solid_from_json(spec.json), part["points"], part["faces"],
+                            np.asarray(center, dtype=np.float64), voxel_size=spec.voxel_size, correct=correct,
+                            vertex_normals=vn)
+    return dict(moments=vec, triangles=int(part["faces"].shape[0]))
+
+
+def brick_rim(spec, brick):
+    """`shared_normals` of a brick meshed here, nothing kept (the brick is meshed again for its moments)."""
+    return shared_normals(mesh_brick_normals(spec, brick))
+
+
+def brick_area_moments_again(spec, brick, center, edges, normals, correct=True):
+    """`brick_area_moments` of a brick meshed again (the same mesh: meshing is a pure function of the
+    brick), so that no worker holds a mesh between the two rounds."""
+    return brick_area_moments(mesh_brick_normals(spec, brick), spec, center, edges, normals, correct=correct)
