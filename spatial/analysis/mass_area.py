@@ -265,8 +265,9 @@ def true_area(solid, points, triangles, *, voxel_size) -> float:
     >>> from implicit import box
     >>> from spatial.meshing.boundary import mesh
     >>> from spatial.meshing.arrays import faces_array
-    >>> pts, tri = faces_array(mesh(box(1.0), resolution=16, progress=False))
-    >>> round(true_area(box(1.0), pts, tri, voxel_size=1 / 16), 4)
+    >>> m = mesh(box(1.0), resolution=64, progress=False)
+    >>> pts, tri = faces_array(m)
+    >>> round(true_area(box(1.0), pts, tri, voxel_size=float(m.field_data["voxel_size"][0])), 2)
     6.0
     """
     pts = np.ascontiguousarray(points, dtype=np.float64)
