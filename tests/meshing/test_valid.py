@@ -148,10 +148,24 @@ def test_fuzz_seed_5534_shell_of_an_empty_intersection_has_empty_bounds():
     assert failures(random_case(5534, resolutions=(16, 48), max_depth=5)) == []
 
 
-@pytest.mark.xfail(strict=True, reason="the offset of nested one-voxel shells: the mesh is valid but its volume "
-                   "misses the Monte-Carlo estimate (a wall thinner than the lattice, with no warning)")
-def test_fuzz_seed_8367_volume_of_offset_nested_shells():
-    from fuzzcheck import failures
+def test_fuzz_seed_8367_walls_below_the_lattice_are_warned_of():
+    # The offset of nested one-voxel shells (sheared, blended with a cone) leaves walls 0.002-0.006
+    # thick, 1/40 of the voxel: the lattice cannot hold them.  The tree's arithmetic called the wall
+    # empty (the offset of a field that is no distance); the walls measured on the field are named
+    # with the voxel that keeps them, and the checker accepts the announced loss (no material deeper
+    # than a voxel is missing) -- but not an unannounced one.
+    from fuzzcheck import failures, mesh_case, volume_agrees
     from fuzzgen import random_case
 
-    assert failures(random_case(8367, resolutions=(16, 48), max_depth=5)) == []
+    case = random_case(8367, resolutions=(16, 48), max_depth=5)
+    said = []
+    m = mesh_case(case, messages=said)
+    thin = [s for s in said if "the wall may be lost" in s]
+    assert len(thin) == 1
+    t = float(thin[0].split("half a wall ")[1].split(" thick")[0])
+    keep = float(thin[0].split("voxel_size=")[1].split(" ")[0])
+    assert 0.001 < t < 0.006 and keep == pytest.approx(t / 4, rel=1e-3)
+    assert "smooth_difference" in thin[0]
+    assert not volume_agrees(case, m, case.voxel_size)
+    assert volume_agrees(case, m, case.voxel_size, warned=True)
+    assert failures(case) == ["thin feature warned"]
