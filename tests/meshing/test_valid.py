@@ -169,3 +169,44 @@ def test_fuzz_seed_8367_walls_below_the_lattice_are_warned_of():
     assert not volume_agrees(case, m, case.voxel_size)
     assert volume_agrees(case, m, case.voxel_size, warned=True)
     assert failures(case) == ["thin feature warned"]
+
+
+# Edge and point contacts: the regularized union is not a manifold there; the mesh fuses the bodies
+# (a neck about a voxel wide) wherever the contact falls (spatial/meshing/saddles.py).
+_CONTACTS = {
+    "boxes edge to edge": (lambda: I.box(1.0) | I.box(1.0, center=(1, 1, 0)), (0.5, 0.5, 0.0), 2.0),
+    "cubes corner to corner": (lambda: I.box(1.0) | I.box(1.0, center=(1, 1, 1)), (0.5, 0.5, 0.5), 2.0),
+    "tangent spheres": (lambda: I.sphere(0.5) | I.sphere(0.5, (1.0, 0, 0)), (0.5, 0.0, 0.0), np.pi / 3),
+}
+
+
+@pytest.mark.parametrize("where", ["on a node", "half a voxel off", "1e-12 off", "-1e-12 off", "a quarter off"])
+@pytest.mark.parametrize("name", sorted(_CONTACTS))
+@pytest.mark.parametrize("h", [1 / 16, 1 / 13])
+def test_edge_and_point_contacts_fuse_wherever_they_fall(name, where, h):
+    make, contact, volume = _CONTACTS[name]
+    frac = {"on a node": 0.0, "half a voxel off": 0.5, "1e-12 off": 1e-12 / h, "-1e-12 off": -1e-12 / h,
+            "a quarter off": 0.25}[where]
+    # bounds of a whole number of voxels put the lattice's nodes at lo - h + k h: the contact falls
+    # `frac` voxels past a node on every axis
+    lo = np.asarray(contact) - (20 + frac) * h
+    m = _mesh(make(), voxel_size=h, bounds=(lo, lo + 48 * h))
+    assert mesh_failures(m, h) == []
+    assert _bodies(m) == 1
+    assert m.volume == pytest.approx(volume, rel=0.06)
+
+
+def test_a_tie_is_broken_only_where_it_is():
+    from spatial.meshing.saddles import break_ties
+
+    v = np.full((4, 4, 3), 0.5, np.float32)
+    assert break_ties(v) is v
+    v[:2, :2] = -0.5
+    v[2:, 2:] = -0.5
+    out = break_ties(v)
+    changed = np.argwhere(out != v)
+    # the two inside corners of the ambiguous faces around the contact line, and nothing else
+    assert sorted(map(tuple, changed[:, :2].tolist())) == [(1, 1)] * 3 + [(2, 2)] * 3
+    assert np.all(out[out != v] < -0.5)
+    v[2, 2, :] = -0.6                     # deeper inside than outside: no tie, nothing changed
+    assert break_ties(v) is v
