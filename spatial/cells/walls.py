@@ -11,7 +11,8 @@ built from two boxes of 10.  `thin_wall` measures walls where they are:
    the samples beside it project onto its faces;
 2. from each surface point a ray goes inward (against the gradient) until
    it leaves the material, by steps of ``|f| / L`` (never past the surface:
-   a thin wall takes short steps, a thick part doubles them);
+   a thin wall takes short steps, a thick part doubles them) or a quarter of
+   the way travelled, whichever is longer;
 3. the ray's length is a wall's thickness where the normal at the exit faces
    the entry's (the two faces of a wall are parallel; across a convex edge
    they are not, and a ray that leaves by the neighbouring face measures no
@@ -149,6 +150,7 @@ def _measure(solid, lo, hi, n):
         return None
     inward = -g / gn[:, None]
     t_min = 1e-5 * ext
+    jump = 1e-3 * ext         # the first step past t_min (a thinner wall is found by the bisection)
     cap = CAP * ext
     tau = np.full(x.shape[0], t_min)
     fin = np.asarray(solid(x + tau[:, None] * inward), dtype=np.float64)
@@ -165,7 +167,9 @@ def _measure(solid, lo, hi, n):
         act = act[~out]
         fa = fa[~out]
         prev[act] = tau[act]
-        tau[act] = tau[act] + np.maximum(-fa / lip, t_min)
+        # at least a quarter of the way travelled (a field far below the distance would crawl; a
+        # step past the exit is caught by the bisection below)
+        tau[act] = tau[act] + np.maximum(-fa / lip, np.maximum(0.25 * tau[act], jump))
         act = act[tau[act] < cap]
     done = np.flatnonzero(np.isfinite(exit_t))
     if done.size == 0:
@@ -173,7 +177,7 @@ def _measure(solid, lo, hi, n):
     # bisect the exit between the last step inside and the first outside
     a, b = prev[done].copy(), exit_t[done].copy()
     xs, ds = x[done], inward[done]
-    for _ in range(8):
+    for _ in range(16):
         mid = 0.5 * (a + b)
         inside = np.asarray(solid(xs + mid[:, None] * ds), dtype=np.float64) < 0
         a = np.where(inside, mid, a)
@@ -206,4 +210,4 @@ def _between(solid, near, far):
         a, b = ff.names[int(dec[0])], ff.names[int(dec[1])]
     except Exception:  # noqa: BLE001 - a name is a courtesy; the thickness stands without it
         return ""
-    return a if a == b else f"{a} and {b}"
+    return a if a == b else " and ".join(sorted((a, b)))

