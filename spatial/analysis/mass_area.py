@@ -192,6 +192,33 @@ def _weights(pts, tri, vn, idx, bary, d, t, g, max_weight):
     return out
 
 
+def _probes(x, step):
+    """The points ``x + step e_i`` (3 n, 3) of a forward-difference gradient."""
+    n = x.shape[0]
+    out = np.empty((3 * n, 3))
+    for p in range(n):
+        for q in range(3):
+            for c in range(3):
+                out[3 * p + q, c] = x[p, c] + (step if c == q else 0.0)
+    return out
+
+
+def _secant(x, d, t0, t1, f0, f1, act, max_weight):
+    """One secant step of the points `act` (in place) and the points where the field is needed next."""
+    out = np.empty((act.shape[0], 3))
+    for r in range(act.shape[0]):
+        p = act[r]
+        df = f1[p] - f0[p]
+        t2 = t1[p] - f1[p] * (t1[p] - t0[p]) / df if abs(df) > 1e-300 else t1[p]
+        lim = max_weight * abs(f1[p])
+        t2 = min(max(t2, t1[p] - lim), t1[p] + lim)
+        t0[p], f0[p] = t1[p], f1[p]
+        t1[p] = t2
+        for c in range(3):
+            out[r, c] = x[p, c] + t2 * d[p, c]
+    return out
+
+
 _KERNELS: list = []
 
 
@@ -201,19 +228,17 @@ def _kernels():
         try:
             import numba
         except ImportError:  # pragma: no cover - numba is a dependency
-            _KERNELS.append((_faces, _classify, _rays, _weights))
+            _KERNELS.append((_faces, _classify, _rays, _weights, _probes, _secant))
         else:
             jit = numba.njit(cache=True, fastmath=False)
-            _KERNELS.append(tuple(jit(f) for f in (_faces, _classify, _rays, _weights)))
+            _KERNELS.append(tuple(jit(f) for f in (_faces, _classify, _rays, _weights, _probes, _secant)))
     return _KERNELS[0]
 
 
 def _gradient(solid, x, fx, step):
     """Forward-difference gradient (n, 3) of the field at `x` whose values `fx` are known."""
-    n = x.shape[0]
-    probe = np.repeat(x, 3, axis=0)
-    probe.reshape(n, 3, 3)[:, [0, 1, 2], [0, 1, 2]] += step
-    return (np.asarray(solid(probe), dtype=np.float64).reshape(n, 3) - fx[:, None]) / step
+    probe = _kernels()[4](np.ascontiguousarray(x, dtype=np.float64), float(step))
+    return (np.asarray(solid(probe), dtype=np.float64).reshape(-1, 3) - fx[:, None]) / step
 
 
 def _project(solid, x, d, slope, h):
@@ -229,18 +254,12 @@ def _project(solid, x, d, slope, h):
     f0 = np.asarray(solid(x), dtype=np.float64)
     t1 = -f0 / np.clip(slope, 1.0 / MAX_WEIGHT, 1.0)
     f1 = np.asarray(solid(x + t1[:, None] * d), dtype=np.float64)
+    secant = _kernels()[5]
     for _ in range(STEPS):
         act = np.flatnonzero(np.abs(f1) > SETTLED * h)
         if act.size == 0:
             break
-        a0, a1, g0, g1 = t0[act], t1[act], f0[act], f1[act]
-        df = g1 - g0
-        ok = np.abs(df) > 1e-300
-        t2 = np.where(ok, a1 - g1 * (a1 - a0) / np.where(ok, df, 1.0), a1)
-        t2 = np.clip(t2, a1 - MAX_WEIGHT * np.abs(g1), a1 + MAX_WEIGHT * np.abs(g1))
-        t0[act], f0[act] = a1, g1
-        t1[act] = t2
-        f1[act] = solid(x[act] + t2[:, None] * d[act])
+        f1[act] = solid(secant(x, d, t0, t1, f0, f1, act, MAX_WEIGHT))
     return t1, f1
 
 
@@ -274,7 +293,7 @@ def true_area(solid, points, triangles, *, voxel_size) -> float:
     tri = np.ascontiguousarray(triangles, dtype=np.int64)
     if tri.size == 0:
         return 0.0
-    faces, classify, rays, weights = _kernels()
+    faces, classify, rays, weights = _kernels()[:4]
     cross, vn = faces(pts, tri)
     area = 0.5 * np.sqrt(np.einsum("ij,ij->i", cross, cross))
     h = float(voxel_size)
