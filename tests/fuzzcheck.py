@@ -12,7 +12,8 @@ the lattice's own error, at most half a voxel of thickness over the surface
 the surface; refined vertices are on it, so the true error is far smaller).
 
 A mesh that lost volume is judged by what the mesher said.  When it warned
-of a wall thinner than two voxels (``the wall may be lost``), the loss is
+of a wall thinner than two voxels (``the wall may be lost``) or found no
+surface at all (``no surface crosses the sampled nodes``), the loss is
 the one announced if the mesh still holds all the material deeper than a
 voxel (``-f >= L h``: every lattice line through such material has a node
 inside it): ``V(-f >= L h) - tol <= V_mesh <= V + tol``, found as ``'thin
@@ -33,6 +34,9 @@ Z = 5.0
 MC_POINTS = 20000
 
 
+#: What the mesher says when it may lose a feature: a wall thinner than two voxels, or a part so
+#: small that no lattice node falls inside it.
+ANNOUNCED = ("the wall may be lost", "no surface crosses the sampled nodes")
 #: Kinds that are findings, not invalid meshes.
 NOT_INVALID = ("volume", "thin feature lost", "thin feature warned")
 
@@ -115,7 +119,7 @@ def failures(case):
     if out:
         return out
     if not volume_agrees(case, m, h):
-        if any("the wall may be lost" in s for s in said):
+        if any(w in s for s in said for w in ANNOUNCED):
             out.append("thin feature warned" if volume_agrees(case, m, h, warned=True) else "volume")
             return out
         # a feature thinner than the lattice may be lost (the mesh stays valid); it is a finding

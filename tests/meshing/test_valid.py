@@ -210,3 +210,23 @@ def test_a_tie_is_broken_only_where_it_is():
     assert np.all(out[out != v] < -0.5)
     v[2, 2, :] = -0.6                     # deeper inside than outside: no tie, nothing changed
     assert break_ties(v) is v
+
+
+def test_fuzz_seed_301_part_smaller_than_a_voxel_is_announced():
+    # an intersection of a frustum, an ellipsoid and a blend leaves a speck (volume 4e-5, voxel 0.087):
+    # no node falls inside it, the mesher says so and returns an empty mesh; nothing deeper than a
+    # voxel is lost, so the checker accepts the announced loss
+    from fuzzcheck import failures
+    from fuzzgen import random_case
+
+    assert failures(random_case(301, resolutions=(16, 48), max_depth=5)) == ["thin feature warned"]
+
+
+@pytest.mark.xfail(strict=True, reason="a sliver of a wedge's knife edge inside an offset torus (volume 0.002, "
+                   "a tenth of it kept at voxel 0.087) is lost without a warning: its faces are not parallel, "
+                   "so the wall measurement does not call it a wall")
+def test_fuzz_seed_1274_knife_edge_sliver_is_announced():
+    from fuzzcheck import failures
+    from fuzzgen import random_case
+
+    assert failures(random_case(1274, resolutions=(16, 48), max_depth=5)) in ([], ["thin feature warned"])
