@@ -115,6 +115,14 @@ def _gradient(solid, x, fx, step):
     return (np.asarray(solid(probe), dtype=np.float64).reshape(-1, 3) - fx[:, None]) / step
 
 
+def _smooth_at(solid, x, fx, g, step):
+    """Points where the forward-difference gradient `g` agrees with the backward one (not on an edge)."""
+    gb = _gradient(solid, x, fx, -step)
+    num = np.einsum("ij,ij->i", g, gb)
+    den = np.linalg.norm(g, axis=1) * np.linalg.norm(gb, axis=1)
+    return num > 0.999 * np.maximum(den, 1e-300)
+
+
 def _measure(solid, lo, hi, n):
     ext = float(np.max(hi - lo))
     axes = [np.linspace(lo[i], hi[i], n) for i in range(3)]
@@ -145,6 +153,9 @@ def _measure(solid, lo, hi, n):
     g = _gradient(solid, x, fx, step)
     gn = np.linalg.norm(g, axis=1)
     on = (np.abs(fx) < 1e-7 * ext) & (gn > 1e-12) & np.all((x >= lo) & (x <= hi), axis=1)
+    # a point on an edge (where Newton steps from symmetric samples like to land) has no normal:
+    # its forward and backward differences disagree
+    on &= _smooth_at(solid, x, fx, g, step)
     x, g, gn = x[on], g[on], gn[on]
     if x.shape[0] == 0:
         return None
@@ -183,10 +194,11 @@ def _measure(solid, lo, hi, n):
         a = np.where(inside, mid, a)
         b = np.where(inside, b, mid)
     far = xs + b[:, None] * ds
-    g2 = _gradient(solid, far, np.asarray(solid(far), dtype=np.float64), step)
+    ffar = np.asarray(solid(far), dtype=np.float64)
+    g2 = _gradient(solid, far, ffar, step)
     # the exit's outward normal along the ray: the far face faces away from the near one
     cos = np.einsum("ij,ij->i", g2, ds) / np.maximum(np.linalg.norm(g2, axis=1), 1e-300)
-    wall = cos > OPPOSED
+    wall = (cos > OPPOSED) & _smooth_at(solid, far, ffar, g2, step)
     if not wall.any():
         return None
     thick, pts, far = b[wall], xs[wall], far[wall]

@@ -61,6 +61,18 @@ def test_thick_parts_and_knife_edges_report_no_wall():
     assert thin_wall(I.box(1.0)) is None
 
 
+def test_points_on_an_edge_measure_no_wall():
+    # a tetrahedron of half-spaces: samples symmetric about its edges project onto them, where the
+    # gradient is a mix of two faces' (a ray along it once met the opposite edge: "a wall 0.149")
+    c = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float)
+    planes = []
+    for k in range(4):
+        f = [c[i] for i in range(4) if i != k]
+        n = np.cross(f[1] - f[0], f[2] - f[0])
+        planes.append(I.halfspace(-n if np.dot(n, c[k] - f[0]) > 0 else n, f[0]))
+    assert thin_wall(planes[0] & planes[1] & planes[2] & planes[3]) is None
+
+
 def test_no_warning_on_parts_whose_walls_the_voxel_holds():
     bench = (I.sphere(1.0) & I.box(1.5)) - I.cylinder(0.5, 4, axis=(1, 0, 0)) - I.cylinder(0.5, 4, axis=(0, 1, 0)) \
         - I.cylinder(0.5, 4, axis=(0, 0, 1))
