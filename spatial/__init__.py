@@ -24,7 +24,7 @@ This module re-exports the public names, so ``spatial.mesh``,
 
 from .cells import EMPTY, FULL, BOUNDARY, Octree, OccupancyGrid  # noqa: F401
 from .cells import mesh_to_solid, save_vdb, load_vdb  # noqa: F401
-from .cells import min_feature_size  # noqa: F401
+from .cells import min_feature_size, thin_wall  # noqa: F401
 from .files import save_mesh, load_mesh  # noqa: F401
 from .meshing import mesh as _mesh_here, feature_edges, FeatureCurves  # noqa: F401
 from .analysis import MassProperties, ToleranceError, mass_properties as _mass_here  # noqa: F401

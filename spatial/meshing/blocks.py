@@ -71,8 +71,10 @@ def _marching_cubes(values, mask):
     when no surface crosses the block."""
     from skimage.measure import marching_cubes
 
+    from .saddles import break_ties      # edge and point contacts fuse wherever they fall (saddles.py)
+
     try:
-        verts, faces, _, _ = marching_cubes(values, 0.0, mask=mask, allow_degenerate=True)
+        verts, faces, _, _ = marching_cubes(break_ties(values), 0.0, mask=mask, allow_degenerate=True)
     except (RuntimeError, ValueError):
         # No sign change in the block ('No surface found' / level out of range).
         return None, None

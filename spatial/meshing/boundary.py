@@ -124,7 +124,7 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
             raise TypeError(f"solid: expected an implicit.Solid, got {type(solid).__name__}")
         voxel_size = default_voxel_size(solid, bounds)
     lattice = make_lattice(solid, voxel_size=voxel_size, resolution=resolution, bounds=bounds)
-    _warn_thin(lattice.solid, lattice.voxel_size)
+    _warn_thin(lattice.solid, lattice.voxel_size, lattice.bounds)
     if lattice.empty:
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
@@ -139,12 +139,22 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
                       node_values=found.pop("nodes"), features=bool(features), _stacklevel=3)
 
 
-def _warn_thin(solid, h):
-    """One line when the voxel is coarser than half the thinnest wall of the tree (it may be lost)."""
+def _warn_thin(solid, h, bounds=None):
+    """One line when the voxel is coarser than half the thinnest wall (it may be lost): the tree's
+    (its primitives' sizes), else the one measured on the field (`spatial.cells.walls`: a wall
+    thinned by a Boolean, an offset or a blend), named by its faces' facets and a point on it."""
     t, what = thinnest_wall(solid)
     if np.isfinite(t) and h > t / 2:
         warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half the thinnest wall ({what}: {t:.4g}); "
                       f"the wall may be lost; voxel_size={t / WALL_VOXELS:.4g} keeps it", RuntimeWarning,
+                      stacklevel=3)
+        return
+    from ..cells.walls import thin_wall
+
+    w = thin_wall(solid, bounds=bounds)
+    if w is not None and h > w.thickness / 2:
+        warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half {w.describe()}; the wall may be "
+                      f"lost; voxel_size={w.thickness / WALL_VOXELS:.4g} keeps it", RuntimeWarning,
                       stacklevel=3)
 
 

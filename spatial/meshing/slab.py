@@ -9,6 +9,7 @@ import threading
 
 import numpy as np
 
+from .saddles import break_ties
 from .arrays import _evaluate, _nudge, _release_free_memory, _repeat2, _settle_ties
 from .kernels import (block_boxes, crossing_ends, fill_values, infer_around, node_ids, node_points, ring_to_nodes,
                       take_block)
@@ -301,7 +302,7 @@ class _SlabJob:
             vol = np.ascontiguousarray(values[box])
             mask = np.zeros(vol.shape, dtype=bool)
             mask[1:, 1:, 1:] = cb
-            verts, tri = _marching_cubes_raw(vol, mask)
+            verts, tri = _marching_cubes_raw(break_ties(vol), mask)   # contacts fuse (saddles.py)
             if verts.shape[0] == 0 or tri.shape[0] == 0:
                 continue
             buf.reserve(verts.shape[0], tri.shape[0] // 3)

@@ -3,7 +3,8 @@
 300 seeded trees in four groups (so that the test runners can share them);
 `bench/fuzz.py` runs 10,000.  A feature thinner than the voxels may be lost
 (the mesh stays valid): such a case must then find its volume on a lattice
-four times finer (`fuzzcheck.failures`).
+four times finer, or have been warned of and lose no material deeper than a
+voxel (`fuzzcheck.failures`).
 """
 
 import pytest
@@ -18,7 +19,7 @@ GROUP = 75
 def test_random_trees_mesh_validly(group):
     bad = {}
     for seed in range(group * GROUP, (group + 1) * GROUP):
-        found = [k for k in failures(random_case(seed)) if k != "thin feature lost"]
+        found = [k for k in failures(random_case(seed)) if k not in ("thin feature lost", "thin feature warned")]
         if found:
             bad[seed] = found
     assert bad == {}

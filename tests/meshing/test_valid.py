@@ -148,10 +148,85 @@ def test_fuzz_seed_5534_shell_of_an_empty_intersection_has_empty_bounds():
     assert failures(random_case(5534, resolutions=(16, 48), max_depth=5)) == []
 
 
-@pytest.mark.xfail(strict=True, reason="the offset of nested one-voxel shells: the mesh is valid but its volume "
-                   "misses the Monte-Carlo estimate (a wall thinner than the lattice, with no warning)")
-def test_fuzz_seed_8367_volume_of_offset_nested_shells():
+def test_fuzz_seed_8367_walls_below_the_lattice_are_warned_of():
+    # The offset of nested one-voxel shells (sheared, blended with a cone) leaves walls 0.002-0.006
+    # thick, 1/40 of the voxel: the lattice cannot hold them.  The tree's arithmetic called the wall
+    # empty (the offset of a field that is no distance); the walls measured on the field are named
+    # with the voxel that keeps them, and the checker accepts the announced loss (no material deeper
+    # than a voxel is missing) -- but not an unannounced one.
+    from fuzzcheck import failures, mesh_case, volume_agrees
+    from fuzzgen import random_case
+
+    case = random_case(8367, resolutions=(16, 48), max_depth=5)
+    said = []
+    m = mesh_case(case, messages=said)
+    thin = [s for s in said if "the wall may be lost" in s]
+    assert len(thin) == 1
+    t = float(thin[0].split("half a wall ")[1].split(" thick")[0])
+    keep = float(thin[0].split("voxel_size=")[1].split(" ")[0])
+    assert 0.001 < t < 0.006 and keep == pytest.approx(t / 4, rel=1e-3)
+    assert "smooth_difference" in thin[0]
+    assert not volume_agrees(case, m, case.voxel_size)
+    assert volume_agrees(case, m, case.voxel_size, warned=True)
+    assert failures(case) == ["thin feature warned"]
+
+
+# Edge and point contacts: the regularized union is not a manifold there; the mesh fuses the bodies
+# (a neck about a voxel wide) wherever the contact falls (spatial/meshing/saddles.py).
+_CONTACTS = {
+    "boxes edge to edge": (lambda: I.box(1.0) | I.box(1.0, center=(1, 1, 0)), (0.5, 0.5, 0.0), 2.0),
+    "cubes corner to corner": (lambda: I.box(1.0) | I.box(1.0, center=(1, 1, 1)), (0.5, 0.5, 0.5), 2.0),
+    "tangent spheres": (lambda: I.sphere(0.5) | I.sphere(0.5, (1.0, 0, 0)), (0.5, 0.0, 0.0), np.pi / 3),
+}
+
+
+@pytest.mark.parametrize("where", ["on a node", "half a voxel off", "1e-12 off", "-1e-12 off", "a quarter off"])
+@pytest.mark.parametrize("name", sorted(_CONTACTS))
+@pytest.mark.parametrize("h", [1 / 16, 1 / 13])
+def test_edge_and_point_contacts_fuse_wherever_they_fall(name, where, h):
+    make, contact, volume = _CONTACTS[name]
+    frac = {"on a node": 0.0, "half a voxel off": 0.5, "1e-12 off": 1e-12 / h, "-1e-12 off": -1e-12 / h,
+            "a quarter off": 0.25}[where]
+    # bounds of a whole number of voxels put the lattice's nodes at lo - h + k h: the contact falls
+    # `frac` voxels past a node on every axis
+    lo = np.asarray(contact) - (20 + frac) * h
+    m = _mesh(make(), voxel_size=h, bounds=(lo, lo + 48 * h))
+    assert mesh_failures(m, h) == []
+    assert _bodies(m) == 1
+    assert m.volume == pytest.approx(volume, rel=0.06)
+
+
+def test_a_tie_is_broken_only_where_it_is():
+    from spatial.meshing.saddles import break_ties
+
+    v = np.full((4, 4, 3), 0.5, np.float32)
+    assert break_ties(v) is v
+    v[:2, :2] = -0.5
+    v[2:, 2:] = -0.5
+    out = break_ties(v)
+    changed = np.argwhere(out != v)
+    # the two inside corners of the ambiguous faces around the contact line, and nothing else
+    assert sorted(map(tuple, changed[:, :2].tolist())) == [(1, 1)] * 3 + [(2, 2)] * 3
+    assert np.all(out[out != v] < -0.5)
+    v[2, 2, :] = -0.6                     # deeper inside than outside: no tie, nothing changed
+    assert break_ties(v) is v
+
+
+def test_fuzz_seed_301_part_smaller_than_a_voxel_is_announced():
+    # an intersection of a frustum, an ellipsoid and a blend leaves a speck (volume 4e-5, voxel 0.087):
+    # no node falls inside it, the mesher says so and returns an empty mesh; nothing deeper than a
+    # voxel is lost, so the checker accepts the announced loss
     from fuzzcheck import failures
     from fuzzgen import random_case
 
-    assert failures(random_case(8367, resolutions=(16, 48), max_depth=5)) == []
+    assert failures(random_case(301, resolutions=(16, 48), max_depth=5)) == ["thin feature warned"]
+
+
+@pytest.mark.xfail(strict=True, reason="a sliver of a wedge's knife edge inside an offset torus (volume 0.002, "
+                   "a tenth of it kept at voxel 0.087) is lost without a warning: its faces are not parallel, "
+                   "so the wall measurement does not call it a wall")
+def test_fuzz_seed_1274_knife_edge_sliver_is_announced():
+    from fuzzcheck import failures
+    from fuzzgen import random_case
+
+    assert failures(random_case(1274, resolutions=(16, 48), max_depth=5)) in ([], ["thin feature warned"])
