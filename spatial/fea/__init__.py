@@ -35,6 +35,7 @@ from .deck import MATERIALS, Material, face_nodal_loads, parse_load, parse_mater
 from .frd import read_frd, von_mises
 from .solve import StaticResult, calculix_path, run_calculix
 from .resolve import check_resolvable, narrowest_gap
+from .jacobian_bounds import jacobian_sign
 
 __all__ = [
     "FacetField", "facet_field", "project_to_surface", "self_intersections", "surface_for_fea",
@@ -42,5 +43,5 @@ __all__ = [
     "radius_edge_ratio", "scaled_jacobian", "MeshQualityWarning", "TetMesh", "tet_mesh",
     "FEA_FORMATS", "set_names", "write_fea", "to_meshio", "MATERIALS", "Material", "face_nodal_loads", "parse_load", "static_deck_text",
     "parse_material", "write_static_deck", "read_frd", "von_mises", "StaticResult", "calculix_path",
-    "run_calculix", "check_resolvable", "narrowest_gap",
+    "run_calculix", "check_resolvable", "narrowest_gap", "jacobian_sign",
 ]

@@ -67,12 +67,30 @@ def project_midnodes(solid, ff, points, tets10, boundary, n_corner, size):
         # A curved boundary edge folds an element whose other nodes lie close to it: carry the
         # boundary displacement into the interior mid-edge nodes instead of giving it up.
         pts = spread_curving(points, pts, tets10, mids)
+    is_mid = np.zeros(len(pts), dtype=bool)
+    is_mid[mids] = True
+    for _ in range(12):
+        # Give up the move of one boundary mid node per folded element (the one that moved most),
+        # not all of them: most folds come from a single curved edge.
+        bad = scaled_jacobian(pts, tets10) <= 0
+        if not bad.any():
+            break
+        cand = tets10[bad, 4:]
+        step = np.linalg.norm(pts[cand] - points[cand], axis=2) * is_mid[cand]
+        if not step.any():
+            break
+        pick = cand[np.arange(len(cand)), step.argmax(axis=1)]
+        pts[pick[step.max(axis=1) > 0]] = points[pick[step.max(axis=1) > 0]]
     for _ in range(5):
         sj = scaled_jacobian(pts, tets10)
         bad = sj <= 0
         if not bad.any():
             break
-        back = np.intersect1d(tets10[bad, 4:].reshape(-1), mids)
+        back = np.unique(tets10[bad, 4:])
+        back = back[(pts[back] != points[back]).any(axis=1)]
+        if is_mid[back].any():
+            back = back[is_mid[back]]
+        # else folded by the spread interior moves alone: those go back to straight edges too
         pts[back] = points[back]
     return pts
 

@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .jacobian_bounds import jacobian_sign
+
 __all__ = ["TetQuality", "tet_quality", "dihedral_angles", "gamma", "radius_edge_ratio", "scaled_jacobian", "tet_volumes"]
 
 # Faces opposite each corner, and the six edges as (i, j) with the two faces
@@ -131,8 +133,10 @@ def scaled_jacobian(points, tets) -> np.ndarray:
     three edge lengths at that corner, times sqrt(2) (Knupp; VTK's
     ``scaled_jacobian``).  For 10-node tets: the 4-node value of the corner
     tetrahedron times the ratio of the smallest to the largest Jacobian
-    determinant at the corners and the centroid (negative when a curved
-    element folds).
+    determinant at the corners and the centroid; <= 0 when the Jacobian
+    determinant is not proven positive in the whole element (Bezier bounds,
+    `jacobian_sign`), so a curved element that folds between its sample
+    points is flagged too.
     """
     tets = np.asarray(tets)
     x = np.asarray(points, dtype=np.float64)[tets]
@@ -149,6 +153,10 @@ def scaled_jacobian(points, tets) -> np.ndarray:
         dets = _tet10_jacobians(x)
         dmin, dmax = dets.min(axis=1), dets.max(axis=1)
         ratio = np.where(dmin > 0, dmin / np.maximum(dmax, 1e-300), np.minimum(dmin, 0.0) / np.maximum(np.abs(dmax), 1e-300))
+        # Corners and centre can all be positive while the cubic determinant dips below zero
+        # between them: the Bezier test settles the sign (0 where it is not proven positive).
+        unproven = jacobian_sign(points, tets) <= 0
+        ratio = np.where(unproven, np.minimum(ratio, 0.0), ratio)
         sj = np.where(ratio > 0, sj * ratio, np.minimum(ratio, 0.0) - (sj <= 0))
     return sj
 
