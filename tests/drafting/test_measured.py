@@ -258,3 +258,18 @@ def test_no_dimension_text_is_crossed_by_another_s_extension_line():
         below = sorted((float(np.asarray(g.items[2].points)[0, 1]), float(g.data["value"]))
                        for g in linear if np.ptp(np.asarray(g.items[2].points)[:, 1]) < 1e-9)
         assert [v for _, v in below] == sorted(v for _, v in below)
+
+
+def test_a_blind_hole_of_an_stl_plate_gets_its_depth_from_where_the_sections_stop(tmp_path):
+    """Drilled 12 deep into a 16 thick plate: the circle fits stop 4 above the bottom face."""
+    import spatial
+    from spatial.cells import mesh_to_solid
+    from spatial.files import load_mesh
+
+    path = tmp_path / "blind.stl"
+    spatial.mesh(box((40, 20, 16)) - cylinder(4, 24, center=(-8, 0, 8)), resolution=80, progress=False).save(str(path))
+    root = ET.fromstring(svg_text(part_drawing(mesh_to_solid(load_mesh(str(path)), 0.5), name="blind", resolution=64)))
+    holes = [d for d in _dims(root, "top") if d.get("data-kind") == "hole"]
+    assert [(d.get("data-text"), d.get("data-value")) for d in holes] == [("⌀8 ↧12", "8")]
+    pos = sorted(float(d.get("data-value")) for d in _dims(root, "top") if d.get("data-kind") == "position")
+    assert pos == [10.0, 12.0]
