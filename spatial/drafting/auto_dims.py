@@ -36,6 +36,8 @@ __all__ = ["view_dimensions", "DIAMETER", "pitch_circle"]
 
 #: The diameter sign (U+2300).
 DIAMETER = "\u2300"
+#: ISO 129-1 / ASME Y14.5 depth symbol of a blind hole's callout.
+DEPTH = "\u21a7"
 
 _C45 = np.sqrt(0.5)
 
@@ -82,8 +84,9 @@ def view_dimensions(name, frame, extent, features, solid, h, arcs=()) -> list:
     for group, sign in ((holes, True), (bosses, False)):
         by_d = {}
         for f in group:
-            by_d.setdefault(round(f.diameter, 6), []).append(f)
-        for dia, fs in sorted(by_d.items()):
+            depth = getattr(f, "depth", None)
+            by_d.setdefault((round(f.diameter, 6), -1.0 if depth is None else round(depth, 6)), []).append(f)
+        for (dia, depth), fs in sorted(by_d.items()):
             centres = np.array([np.asarray(frame)[:2] @ f.centre for f in fs])
             centres = np.unique(np.round(centres, 6), axis=0)
             pick = centres[np.argmax(centres[:, 0] + centres[:, 1])]
@@ -95,6 +98,8 @@ def view_dimensions(name, frame, extent, features, solid, h, arcs=()) -> list:
             anchor = pick + dia / 2 * (np.array([_C45, _C45]) if sign else np.array([0.9397, 0.3420]))
             n = len(centres)
             text = (f"{n}x " if n > 1 else "") + DIAMETER + format_value(dia)
+            if depth >= 0:
+                text += f" {DEPTH}{format_value(depth)}"
             if pcd is not None:
                 text += f" on PCD {DIAMETER}{format_value(2 * pcd[1])}"
             out.append(Note(tuple(anchor), text, dia, kind="hole" if sign else "diameter", count=n,

@@ -104,6 +104,8 @@ class AxialFeature:
         round (radius callout), not a hole or a boss.
     mid : (3,) float, optional
         A point of the wall in the middle of the part that is on the boundary.
+    depth : float, optional
+        A blind hole's depth from the face it leaves (``None``: through, or not a hole).
     """
 
     kind: str
@@ -116,6 +118,7 @@ class AxialFeature:
     negative: bool
     arc: bool = False
     mid: np.ndarray | None = None
+    depth: float | None = None
 
 
 def _scale_along(leaf: Leaf, axis_local) -> tuple[np.ndarray, float]:

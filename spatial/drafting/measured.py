@@ -251,8 +251,11 @@ def measured_holes(solid, bounds, h: float, *, known=(), resolution: int = 256, 
             taken |= same
             centre = flat[same].mean(axis=0)
             centre[axis] = 0.5 * (lo[axis] + hi[axis])
+            blind = None
             if not _open_along(solid, centre, axis, lo, hi, h):
-                continue
+                blind = _blind_depth(solid, centre, axis, lo, hi, h)
+                if blind is None:
+                    continue
             diameter = float(snap(2 * np.median(radii[same]), step))
             centre = snap(centre, step)
             centre[axis] = 0.5 * (lo[axis] + hi[axis])
@@ -260,7 +263,14 @@ def measured_holes(solid, bounds, h: float, *, known=(), resolution: int = 256, 
             if any(_same_hole(f, centre, direction, diameter, h) for f in known):
                 continue
             start, stop = _wall_span(solid, centre, axis, diameter / 2, lo, hi, h)
-            out.append(AxialFeature("cylinder", centre, direction, diameter, stop - start, start, stop, True))
+            depth = None
+            if blind is not None:
+                depth, bottom, sign = blind
+                # The hole runs from its face to its bottom only.
+                start, stop = (start, bottom - centre[axis]) if sign < 0 else (bottom - centre[axis], stop)
+                depth = float(snap(depth, step))
+            out.append(AxialFeature("cylinder", centre, direction, diameter, stop - start, start, stop, True,
+                                    depth=depth))
     return out
 
 
@@ -279,6 +289,29 @@ def _wall_span(solid, centre, axis, r, lo, hi, h):
     k = np.flatnonzero(wall)
     mid = centre[axis]
     return float(t[k[0]] - mid), float(t[k[-1]] - mid)
+
+
+def _blind_depth(solid, centre, axis, lo, hi, h):
+    """A hole open at one end of the line through `centre` along `axis` and stopped inside:
+    ``(depth from the face, bottom level, +1 / -1 for the end it opens at)``, or None.
+
+    The face is the part's extent at that end (a plate's face); the bottom is where
+    the line itself meets material."""
+    n = max(64, int(np.ceil((hi[axis] - lo[axis] + 2 * h) / (0.1 * h))))
+    t = np.linspace(lo[axis] - h, hi[axis] + h, n)
+    pts = np.repeat(centre[None], len(t), axis=0)
+    pts[:, axis] = t
+    inside = np.asarray(solid(pts)) < 0
+    if not inside.any():
+        return None
+    first, last = int(np.argmax(inside)), len(t) - 1 - int(np.argmax(inside[::-1]))
+    # Depth from the end with the longer open run: that is where the drill went in.
+    runs = ((t[first] - lo[axis], t[first], -1), (hi[axis] - t[last], t[last], +1))
+    depth_lo, depth_hi = runs[0][0], runs[1][0]
+    if max(depth_lo, depth_hi) < 2 * h:
+        return None
+    depth, bottom, sign = runs[0] if depth_lo >= depth_hi else runs[1]
+    return float(depth), float(bottom), sign
 
 
 def _open_along(solid, centre, axis, lo, hi, h) -> bool:

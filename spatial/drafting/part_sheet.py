@@ -21,6 +21,7 @@ from .layout import place_grid
 from .model import Drawing, Group
 from .part_views import ViewLines, exact_bounds, part_mesh, present_features, view_lines
 from .edges import surface_edges
+from .aux_view import draw_auxiliary_views, oblique_holes
 from .measured import is_measured, measured_holes, section_arcs, snap, snap_to_holes, step_for
 from .units import check_units, paper_per_unit, unit_label
 from .section_view import hatch_segments, plan_section, section_loops
@@ -210,6 +211,7 @@ def part_drawing(solid, *, name: str = "part", projection: str = "first", sheet:
             below = g.bbox()[3]
             g.text(0.5 * (x0 + x1), below + 7.0, "SECTION A-A", size=5.0, cls="view-label", bold=True)
             placer.boxes.append(g.items[-1].box())
+    draw_auxiliary_views(drawing, views, places, oblique_holes(features), placer, drawing_area(sheet), s)
     return drawing
 
 

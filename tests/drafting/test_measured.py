@@ -168,7 +168,36 @@ def test_an_oblique_hole_gets_its_diameter_and_axis_angle_in_the_view_nearest_it
     sheet = part_drawing(part, name="o", resolution=48)
     notes = [(_view_of(sheet, g), g.data["text"]) for g in _notes(sheet, "oblique-hole")]
     assert notes == [("top", "⌀6, axis 30° from z")]
-    assert not _notes(sheet, "hole")
+    # The only plain ⌀ callout is the auxiliary view's, where the hole is seen along its axis.
+    assert [_view_of(sheet, g) for g in _notes(sheet, "hole")] == ["aux-B"]
+
+
+def test_an_oblique_hole_gets_an_auxiliary_view_along_its_axis_with_its_true_circle():
+    part = box((40, 20, 10)) - cylinder(3, 40).rotate(30, (0, 1, 0))
+    sheet = part_drawing(part, name="o", resolution=48)
+    root = ET.fromstring(svg_text(sheet))
+    view = root.find(".//s:g[@id='view-B']", NS)
+    assert view is not None and view.get("data-name") == "aux-B"
+    scale = float(view.get("data-scale"))
+    rims = view.findall("s:circle[@class='visible']", NS)
+    assert len(rims) == 1 and float(rims[0].get("r")) == pytest.approx(3.0 * scale, abs=0.05)
+    assert "VIEW B" in [t.text for t in view.findall("s:text", NS)]
+    callout = [d for d in view.findall(".//s:g[@class='dimension']", NS) if d.get("data-kind") == "hole"]
+    assert [(d.get("data-text"), float(d.get("data-value"))) for d in callout] == [("⌀6", 6.0)]
+    # The arrow with the letter: in the front view, where the axis (turned about y) is in true length.
+    arrow = root.find(".//s:g[@id='arrow-B']", NS)
+    assert arrow is not None and [t.text for t in arrow.findall(".//s:text", NS)] == ["B"]
+    # The mouth on the top face z = 5 lies 5 tan 30° right of the centre: 20 + 2.887 from the left end.
+    front = root.find(".//s:g[@id='view-front']", NS)
+    pos = [float(d.get("data-value")) for d in front.findall(".//s:g[@class='dimension']", NS)
+           if d.get("data-kind") == "position"]
+    assert pos == [pytest.approx(20 + 5 * np.tan(np.radians(30)), abs=0.01)]
+    # No two views' boxes overlap: the auxiliary view sits in free space.
+    b = [g.bbox() for g in sheet.walk() if getattr(g, "cls", None) == "view"]
+    for i in range(len(b)):
+        for j in range(i + 1, len(b)):
+            p, q = b[i], b[j]
+            assert not (p[0] < q[2] and q[0] < p[2] and p[1] < q[3] and q[1] < p[3])
 
 
 def test_the_top_view_of_a_box_with_a_hole_draws_each_true_edge_once():
@@ -258,3 +287,18 @@ def test_no_dimension_text_is_crossed_by_another_s_extension_line():
         below = sorted((float(np.asarray(g.items[2].points)[0, 1]), float(g.data["value"]))
                        for g in linear if np.ptp(np.asarray(g.items[2].points)[:, 1]) < 1e-9)
         assert [v for _, v in below] == sorted(v for _, v in below)
+
+
+def test_a_blind_hole_of_an_stl_plate_gets_its_depth_from_where_the_sections_stop(tmp_path):
+    """Drilled 12 deep into a 16 thick plate: the circle fits stop 4 above the bottom face."""
+    import spatial
+    from spatial.cells import mesh_to_solid
+    from spatial.files import load_mesh
+
+    path = tmp_path / "blind.stl"
+    spatial.mesh(box((40, 20, 16)) - cylinder(4, 24, center=(-8, 0, 8)), resolution=80, progress=False).save(str(path))
+    root = ET.fromstring(svg_text(part_drawing(mesh_to_solid(load_mesh(str(path)), 0.5), name="blind", resolution=64)))
+    holes = [d for d in _dims(root, "top") if d.get("data-kind") == "hole"]
+    assert [(d.get("data-text"), d.get("data-value")) for d in holes] == [("⌀8 ↧12", "8")]
+    pos = sorted(float(d.get("data-value")) for d in _dims(root, "top") if d.get("data-kind") == "position")
+    assert pos == [10.0, 12.0]
