@@ -333,6 +333,17 @@ def place_vertices(nodes, axis, t, h, origin):
     return p
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _block_node(q, n1):
+    """Block and node ``(b, x, y, z)`` of the flat position `q` in the blocks' ``(B+1)^3`` arrays."""
+    b = q // (n1 * n1 * n1)
+    r = q - b * (n1 * n1 * n1)
+    x = r // (n1 * n1)
+    r -= x * (n1 * n1)
+    y = r // n1
+    return b, x, y, r - y * n1
+
+
 @numba.njit(cache=True, nogil=True)
 def node_points(flat, rows, B, x0, ybase, zbase, origin, h):
     """Positions of the slab's needed nodes ``flat[rows]`` (flat positions in the blocks' arrays;
@@ -340,13 +351,7 @@ def node_points(flat, rows, B, x0, ybase, zbase, origin, h):
     n1 = B + 1
     pts = np.empty((rows.shape[0], 3))
     for m in range(rows.shape[0]):
-        q = np.int64(flat[rows[m]])
-        b = q // (n1 * n1 * n1)
-        r = q - b * (n1 * n1 * n1)
-        x = r // (n1 * n1)
-        r -= x * (n1 * n1)
-        y = r // n1
-        z = r - y * n1
+        b, x, y, z = _block_node(np.int64(flat[rows[m]]), n1)
         pts[m, 0] = origin[0] + (x + x0) * h
         pts[m, 1] = origin[1] + (ybase[b] + y) * h
         pts[m, 2] = origin[2] + (zbase[b] + z) * h
@@ -359,12 +364,6 @@ def node_ids(flat, rows, B, x0, ybase, zbase, stride):
     n1 = B + 1
     out = np.empty(rows.shape[0], np.int64)
     for m in range(rows.shape[0]):
-        q = np.int64(flat[rows[m]])
-        b = q // (n1 * n1 * n1)
-        r = q - b * (n1 * n1 * n1)
-        x = r // (n1 * n1)
-        r -= x * (n1 * n1)
-        y = r // n1
-        z = r - y * n1
+        b, x, y, z = _block_node(np.int64(flat[rows[m]]), n1)
         out[m] = ((x + x0) * stride + (ybase[b] + y)) * stride + (zbase[b] + z)
     return out
