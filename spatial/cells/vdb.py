@@ -132,20 +132,11 @@ PROBES = 256
 
 
 def _winding(q, points, faces):
-    """Generalized winding numbers of points `q` (k, 3) (Van Oosterom and
-    Strackee's solid angle of every triangle, summed)."""
-    out = np.empty(len(q))
-    block = max(1, 2_000_000 // (9 * len(faces)))       # about 16 MB of corners per block
-    tri = points[faces]                                  # (m, 3, 3)
-    for s in range(0, len(q), block):
-        r = tri[None, :, :, :] - q[s:s + block, None, None, :]     # (b, m, 3, 3)
-        a, b, c = r[:, :, 0], r[:, :, 1], r[:, :, 2]
-        la, lb, lc = (np.linalg.norm(v, axis=-1) for v in (a, b, c))
-        det = np.einsum("bmi,bmi->bm", a, np.cross(b, c))
-        den = (la * lb * lc + np.einsum("bmi,bmi->bm", a, b) * lc + np.einsum("bmi,bmi->bm", a, c) * lb
-               + np.einsum("bmi,bmi->bm", b, c) * la)
-        out[s:s + block] = np.arctan2(det, den).sum(axis=1) / (2.0 * np.pi)
-    return out
+    """Generalized winding numbers of points `q` (k, 3) about the mesh (`implicit`'s, in blocks of
+    about 16 MB of corners)."""
+    from implicit.surface_projection import winding_number
+
+    return winding_number(q, points[faces], chunk=2_000_000 // 9)
 
 
 def _intersecting(points, faces) -> int:

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..cells.thickness import WALL_VOXELS, default_voxel_size, thinnest_wall
 from ..meshing import DEFAULT_BLOCK, empty_mesh
-from ..meshing.features import sharpen
+from ..meshing.features import sharp_polydata
 from .cluster import check_client, connect
 from .parts import PartitionedMesh, merge_parts, write_pvtp
 from .plan import DEFAULT_BRICK, plan_bricks
@@ -152,14 +152,9 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
                       "returning an empty mesh", RuntimeWarning, stacklevel=2)
         return empty_mesh(h, evaluations)
     if features:
-        sharp = sharpen(plan.lattice.solid, points, faces, np.asarray(plan.lattice.origin, dtype=np.float64), h)
-        points, faces = sharp["points"], sharp["faces"]
-    out = pv.PolyData.from_regular_faces(points, faces)
-    if features:
-        out.point_data["feature_rank"] = sharp["feature_rank"]
-        out.point_data["feature_facets"] = sharp["feature_facets"]
-        out.field_data["facet_names"] = np.array(sharp["facet_names"] or [""])
-        out.field_data["feature_cells"] = np.array([sharp["feature_cells"]], dtype=np.int64)
+        out = sharp_polydata(plan.lattice.solid, points, faces, np.asarray(plan.lattice.origin, dtype=np.float64), h)
+    else:
+        out = pv.PolyData.from_regular_faces(points, faces)
     out.field_data["voxel_size"] = np.array([h])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
     out.field_data["boundary_cells"] = np.array([cells], dtype=np.int64)

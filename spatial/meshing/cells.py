@@ -10,7 +10,7 @@ import numpy as np
 from ..files.progress import progress_bar
 from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _settle_ties, _stable_order, empty_mesh
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
-from .features import sharpen
+from .features import sharp_polydata
 from .refine import _certified, _refine_on_edges
 from .kernels import place_vertices
 from .slab import _SlabJob, run_slabs
@@ -203,15 +203,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     del nodes, t, axis
     if inner.size:
         _centre_inner(p0, faces, inner)
-    if features:
-        sharp = sharpen(solid, p0, faces, origin, h)
-        p0, faces = sharp["points"], sharp["faces"]
-    out = pv.PolyData.from_regular_faces(p0, faces)
-    if features:
-        out.point_data["feature_rank"] = sharp["feature_rank"]
-        out.point_data["feature_facets"] = sharp["feature_facets"]
-        out.field_data["facet_names"] = np.array(sharp["facet_names"] or [""])
-        out.field_data["feature_cells"] = np.array([sharp["feature_cells"]], dtype=np.int64)
+    out = sharp_polydata(solid, p0, faces, origin, h) if features else pv.PolyData.from_regular_faces(p0, faces)
     if edge_ids:
         out.point_data["edge_id"] = ids
     out.field_data["voxel_size"] = np.array([h])

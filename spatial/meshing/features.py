@@ -70,7 +70,7 @@ import numpy as np
 
 from .feature_kernels import _assemble, _at_node, _border_nodes, _candidate_cells, _cell_index, _facing_kernel
 
-__all__ = ["sharpen", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
+__all__ = ["sharpen", "sharp_polydata", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
 #: A triangle whose normal makes ``cos < COS_CANDIDATE`` with one of its vertex normals marks its cell.
 COS_CANDIDATE = 0.97
@@ -466,3 +466,19 @@ def _facing_badly(points, faces, exact, n):
     return _facing_kernel(points, np.ascontiguousarray(faces, dtype=np.int64), exact, n, MIN_FACING)
 
 
+def sharp_polydata(solid, points, faces, origin, h):
+    """`sharpen` the mesh and return it as PolyData carrying the feature fields.
+
+    One place for what the single-process mesher and the cluster's merged mesh
+    both attach: ``feature_rank`` and ``feature_facets`` per point, the facet
+    names and the count of feature cells.
+    """
+    import pyvista as pv
+
+    sharp = sharpen(solid, points, faces, origin, h)
+    out = pv.PolyData.from_regular_faces(sharp["points"], sharp["faces"])
+    out.point_data["feature_rank"] = sharp["feature_rank"]
+    out.point_data["feature_facets"] = sharp["feature_facets"]
+    out.field_data["facet_names"] = np.array(sharp["facet_names"] or [""])
+    out.field_data["feature_cells"] = np.array([sharp["feature_cells"]], dtype=np.int64)
+    return out
