@@ -109,7 +109,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     uniform = _by_x(uniform_cells, "uniform_cells", "signs", np.int32, np.int8, c) if usable else None
     parents = _by_x(uniform_parents, "uniform_parents", "signs", np.int32, np.int8, c) if usable else None
     known = _by_x(node_values, "node_values", "values", np.int64, np.float64, c) if usable else None
-    # their x columns, contiguous for the searches of every slab
+    # their x columns, contiguous for the searches of every slab (queried in their own dtype:
+    # numpy casts the whole column to a wider query's type on every call)
     uniform_x, parents_x, known_x = (None if p is None else np.ascontiguousarray(p[0][:, 0])
                                      for p in (uniform, parents, known))
     if known is not None:
@@ -143,16 +144,16 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             ring = ring_parents = None
             if uniform is not None:
                 lo_x, hi_x = slab * per - 1, (slab + 1) * per
-                a, b = np.searchsorted(uniform_x, [lo_x, hi_x + 1])
+                a, b = np.searchsorted(uniform_x, np.array([lo_x, hi_x + 1], uniform_x.dtype))
                 ring = (uniform[0][a:b], uniform[1][a:b])
             if parents is not None:
                 lo_x, hi_x = (slab * per - 1) // 2, ((slab + 1) * per) // 2
-                a, b = np.searchsorted(parents_x, [lo_x, hi_x + 1])
+                a, b = np.searchsorted(parents_x, np.array([lo_x, hi_x + 1], parents_x.dtype))
                 ring_parents = (parents[0][a:b], parents[1][a:b])
             extra = None
             if known is not None:
                 # nodes strictly inside the slab (those on its planes are shared: not worth merging)
-                a, b = np.searchsorted(known_x, [slab * block + 1, (slab + 1) * block])
+                a, b = np.searchsorted(known_x, np.array([slab * block + 1, (slab + 1) * block], known_x.dtype))
                 extra = (known[0][a:b], known[1][a:b])
             yield job, (cells[s0:s1], given, (ring, ring_parents), centre_infer, extra)
 

@@ -11,8 +11,8 @@ import numpy as np
 
 from .saddles import break_ties
 from .arrays import _evaluate, _nudge, _release_free_memory, _repeat2, _settle_ties
-from .kernels import (block_boxes, crossing_ends, fill_values, infer_around, node_ids, node_points, ring_to_nodes,
-                      take_block)
+from .kernels import (block_boxes, block_input, crossing_ends, fill_values, infer_around, node_ids, node_points,
+                      ring_to_nodes, take_block)
 
 __all__ = []
 
@@ -44,6 +44,7 @@ class _SlabJob:
         self.x0 = slab * block
         self.nbz = int(stride) // block + 3  # block keys: by * nbz + bz, the same in every slab
         self.capacity_hint = 1 << 16  # vertices the slab's buffers start with
+        self.scratch = None  # a `_Scratch` lent by `run_slabs` (None: fresh arrays)
 
     # -- the parts -------------------------------------------------------------------------
     def _blocks(self, sc):
@@ -116,7 +117,7 @@ class _SlabJob:
             sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
             state[idx[sel, 0] - xc, idx[sel, 1] - y0, idx[sel, 2] - z0] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
         state[sc[:, 0] - xc, sc[:, 1] - y0, sc[:, 2] - z0] = NEEDED
-        out = np.empty((self.nb,) + (2 * P + 1,) * 3, dtype=np.uint8)
+        out = _take(self.scratch, "code", (self.nb,) + (2 * P + 1,) * 3, np.uint8)
         ring_to_nodes(state, (self.bys * P - 1 - y0).astype(np.int64), (self.bzs * P - 1 - z0).astype(np.int64), P,
                       out)
         return out
@@ -192,7 +193,8 @@ class _SlabJob:
         for b_, x_, y_, z_, v in sampled:
             # nodes already sampled (never on a block face) hold their values
             at = ((b_.astype(np.int64) * (B + 1) + x_) * (B + 1) + y_) * (B + 1) + z_
-            pos = np.minimum(np.searchsorted(flat, at), flat.shape[0] - 1)
+            # in flat's own dtype (positions fit it): a wider query would cast all of flat per call
+            pos = np.minimum(np.searchsorted(flat, at.astype(flat.dtype)), flat.shape[0] - 1)
             hit = flat[pos] == at
             v_n[pos[hit]] = v[hit]
         del sampled
@@ -253,7 +255,7 @@ class _SlabJob:
         del w_s, w_u, a, b
         # -- marching cubes: a sign-only node gets +-L h, an unused node 1 ------------------
         scale = np.float32(self.lip * h if self.lip else h)
-        values = np.empty(self.nb * (B + 1) ** 3, dtype=np.float32)
+        values = _take(self.scratch, "values", (self.nb * (B + 1) ** 3,), np.float32)
         fill_values(values, flat, v_n, s_n, scale)
         del v_u
         # the upper plane goes to the next slab (values NaN where only the sign is known)
@@ -282,26 +284,21 @@ class _SlabJob:
         faces), or None."""
         B, c, x0, stride = self.B, self.c, self.x0, self.stride
         lows, highs = block_boxes(*self.cl, self.nb, self.P)
-        # the voxels of the cells, for the whole slab at once
-        voxels = cells
-        if c == 2:
-            for ax in (1, 2, 3):
-                voxels = _repeat2(voxels, ax)
-        elif c > 1:
-            for ax in (1, 2, 3):
-                voxels = np.repeat(voxels, c, axis=ax)
-        buf = _SlabBuffers(self.capacity_hint)
+        scratch = self.scratch if self.scratch is not None else _Scratch()
+        buf = scratch.buffers(self.capacity_hint)
+        # one block's box at a time, built in place (no slab of voxels, no per-block arrays)
+        flat_vol = _take(scratch, "vol", ((B + 1) ** 3,), np.float32)
+        flat_mask = _take(scratch, "mask", ((B + 1) ** 3,), np.bool_)
         gy = self.bys * B
         gz = self.bzs * B
         for b in range(self.nb):
-            box_lo, box_hi = (lows[b] * c).tolist(), (highs[b] * c).tolist()
-            cb = voxels[b, box_lo[0]:box_hi[0], box_lo[1]:box_hi[1], box_lo[2]:box_hi[2]]
-            xs, ys, zs = box_lo
-            box = (b, slice(xs, xs + cb.shape[0] + 1), slice(ys, ys + cb.shape[1] + 1),
-                   slice(zs, zs + cb.shape[2] + 1))
-            vol = np.ascontiguousarray(values[box])
-            mask = np.zeros(vol.shape, dtype=bool)
-            mask[1:, 1:, 1:] = cb
+            xs, ys, zs = (lows[b] * c).tolist()
+            nx, ny, nz = ((highs[b] - lows[b]) * c).tolist()
+            shape = (nx + 1, ny + 1, nz + 1)
+            size = shape[0] * shape[1] * shape[2]
+            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask)
+            vol = flat_vol[:size].reshape(shape)
+            mask = flat_mask[:size].reshape(shape)
             verts, tri = _marching_cubes_raw(break_ties(vol), mask)   # contacts fuse (saddles.py)
             if verts.shape[0] == 0 or tri.shape[0] == 0:
                 continue
@@ -312,6 +309,39 @@ class _SlabJob:
         if buf.vat == 0:
             return None
         return buf.part()
+
+
+class _Scratch:
+    """Slab-sized arrays lent from one slab to the next of a `run_slabs` call: the dense node codes
+    and samples, one block's box and mask, the vertex buffers.  Every use writes all it reads
+    (`ring_to_nodes`, `fill_values`, `block_input`), so nothing of an earlier slab shows through;
+    reuse saves the page faults of fresh arrays (some 300 MB of them per N=512 mesh)."""
+
+    def __init__(self):
+        self.arrays = {}
+        self._buffers = None
+
+    def take(self, name, shape, dtype):
+        n = int(np.prod(shape))
+        arr = self.arrays.get(name)
+        if arr is None or arr.dtype != dtype or arr.shape[0] < n:
+            arr = np.empty(max(n, 0 if arr is None else arr.shape[0] + arr.shape[0] // 4), dtype=dtype)
+            self.arrays[name] = arr
+        return arr[:n].reshape(shape)
+
+    def buffers(self, capacity):
+        if self._buffers is None:
+            self._buffers = _SlabBuffers(capacity)
+        else:
+            self._buffers.vat = self._buffers.fat = self._buffers.eat = 0
+        return self._buffers
+
+
+def _take(scratch, name, shape, dtype):
+    """``np.empty(shape, dtype)``, from `scratch` when there is one."""
+    if scratch is None:
+        return np.empty(shape, dtype=dtype)
+    return scratch.take(name, shape, dtype)
 
 
 class _SlabBuffers:
@@ -387,7 +417,9 @@ def run_slabs(tasks, parts, overlap=False):
     if not overlap:
         handoff = None
         made = 0
+        scratch = _Scratch()
         for job, (sc, given, ring, centre_infer, extra) in tasks:
+            job.scratch = scratch
             cells, values, spent, handoff = job.prepare(sc, given, ring, centre_infer, handoff, extra)
             # neighbouring slabs make about as many vertices: buffers sized from the last one
             job.capacity_hint = max(job.capacity_hint, made + made // 4)
@@ -413,9 +445,12 @@ def run_slabs(tasks, parts, overlap=False):
     def work():
         try:
             handoff = None
-            for job, (sc, given, ring, centre_infer, extra) in tasks:
+            # a slab being meshed, one waiting and one being prepared: three sets in turn
+            pool = [_Scratch() for _ in range(3)]
+            for k, (job, (sc, given, ring, centre_infer, extra)) in enumerate(tasks):
                 if stop.is_set():
                     return
+                job.scratch = pool[k % 3]
                 cells, values, spent, handoff = job.prepare(sc, given, ring, centre_infer, handoff, extra)
                 if not put((job, cells, values, spent)):
                     return
