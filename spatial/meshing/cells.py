@@ -109,8 +109,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     uniform = _by_x(uniform_cells, "uniform_cells", "signs", np.int32, np.int8, c) if usable else None
     parents = _by_x(uniform_parents, "uniform_parents", "signs", np.int32, np.int8, c) if usable else None
     known = _by_x(node_values, "node_values", "values", np.int64, np.float64, c) if usable else None
-    # their x columns, contiguous for the searches of every slab (queried in their own dtype:
-    # numpy casts the whole column to a wider query's type on every call)
+    # their x columns, contiguous for the searches below
     uniform_x, parents_x, known_x = (None if p is None else np.ascontiguousarray(p[0][:, 0])
                                      for p in (uniform, parents, known))
     if known is not None:
@@ -132,30 +131,41 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     slab_starts = np.flatnonzero(np.r_[True, slab_of[1:] != slab_of[:-1]])
     slab_ends = np.r_[slab_starts[1:], cells.shape[0]]
 
+    # -- each slab's share of the classification, cut out once and dropped as its slab is done --
+    # (the whole-lattice arrays would otherwise stay alive under the growing parts: at N=1024 some
+    # 150 MB of the peak)
+    slabs = slab_of[slab_starts].astype(np.int64)
+    n_cells = int(cells.shape[0])
+    pieces = [[cells[s0:s1].copy(), None if centre_values is None else centre_values[s0:s1].copy(), None, None,
+               None] for s0, s1 in zip(slab_starts, slab_ends)]
+    del cells, slab_of, centre_values
+    for col, (pair, xs, lo, hi) in enumerate((
+            (uniform, uniform_x, slabs * per - 1, (slabs + 1) * per + 1),
+            (parents, parents_x, (slabs * per - 1) // 2, ((slabs + 1) * per) // 2 + 1),
+            # nodes strictly inside the slab (those on its planes are shared: not worth merging)
+            (known, known_x, slabs * block + 1, (slabs + 1) * block)), start=2):
+        if pair is None:
+            continue
+        # searched in the column's own dtype: a wider query would cast the whole column
+        first = np.searchsorted(xs, lo.astype(xs.dtype))
+        last = np.searchsorted(xs, hi.astype(xs.dtype))
+        for k in range(len(pieces)):
+            pieces[k][col] = (pair[0][first[k]:last[k]].copy(), pair[1][first[k]:last[k]].copy())
+        del pair, first, last
+    del uniform, parents, known, uniform_x, parents_x, known_x
+    _release_free_memory()
+
     parts = []
     n_blocks = 0
-    bar = progress_bar(len(slab_starts), "mesh", progress, unit="slab")
+    bar = progress_bar(len(pieces), "mesh", progress, unit="slab")
 
     def tasks():
-        for s0, s1 in zip(slab_starts, slab_ends):
-            slab = int(slab_of[s0])
-            job = _SlabJob(solid, origin, h, c, block, slab, stride, lip if usable else None)
-            given = None if centre_values is None else centre_values[s0:s1]
-            ring = ring_parents = None
-            if uniform is not None:
-                lo_x, hi_x = slab * per - 1, (slab + 1) * per
-                a, b = np.searchsorted(uniform_x, np.array([lo_x, hi_x + 1], uniform_x.dtype))
-                ring = (uniform[0][a:b], uniform[1][a:b])
-            if parents is not None:
-                lo_x, hi_x = (slab * per - 1) // 2, ((slab + 1) * per) // 2
-                a, b = np.searchsorted(parents_x, np.array([lo_x, hi_x + 1], parents_x.dtype))
-                ring_parents = (parents[0][a:b], parents[1][a:b])
-            extra = None
-            if known is not None:
-                # nodes strictly inside the slab (those on its planes are shared: not worth merging)
-                a, b = np.searchsorted(known_x, np.array([slab * block + 1, (slab + 1) * block], known_x.dtype))
-                extra = (known[0][a:b], known[1][a:b])
-            yield job, (cells[s0:s1], given, (ring, ring_parents), centre_infer, extra)
+        for k in range(len(pieces)):
+            sc, given, ring, ring_parents, extra = pieces[k]
+            pieces[k] = None  # the slab's job holds what it needs
+            job = _SlabJob(solid, origin, h, c, block, int(slabs[k]), stride, lip if usable else None)
+            yield job, (sc, given, (ring, ring_parents), centre_infer, extra)
+            del sc, given, ring, ring_parents, extra
 
     try:
         for nb, spent in run_slabs(tasks(), parts):
@@ -164,9 +174,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             bar.update()
     finally:
         bar.close()
-    n_cells = int(cells.shape[0])
-    del cells, slab_of, centre_values, uniform, parents, known, uniform_x, parents_x, known_x
-    _release_free_memory()
+    del pieces
     data, faces = merge_blocks(parts)
     del parts
     _release_free_memory()

@@ -324,13 +324,17 @@ class _Scratch:
     def take(self, name, shape, dtype):
         n = int(np.prod(shape))
         arr = self.arrays.get(name)
-        if arr is None or arr.dtype != dtype or arr.shape[0] < n:
-            arr = np.empty(max(n, 0 if arr is None else arr.shape[0] + arr.shape[0] // 4), dtype=dtype)
+        # grown with room to spare; given back when the slabs get much smaller (the last slabs are
+        # meshed when the parts are largest: no spare memory then)
+        if arr is None or arr.dtype != dtype or not n <= arr.shape[0] <= 2 * n + 4096:
+            self.arrays[name] = None
+            arr = np.empty(n + n // 4, dtype=dtype)
             self.arrays[name] = arr
         return arr[:n].reshape(shape)
 
     def buffers(self, capacity):
-        if self._buffers is None:
+        if self._buffers is None or self._buffers.cap > 2 * capacity + 4096:
+            self._buffers = None
             self._buffers = _SlabBuffers(capacity)
         else:
             self._buffers.vat = self._buffers.fat = self._buffers.eat = 0
