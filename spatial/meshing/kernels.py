@@ -394,3 +394,40 @@ def block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, vol, mask):
                 held = cells[b, (xs + i - 1) // c, (ys + j - 1) // c]
                 for k in range(1, mz):
                     mask[row + k] = held[(zs + k - 1) // c]
+
+
+@numba.njit(cache=True, nogil=True)
+def count_needed(code):
+    """How many nodes of the slab's flat node codes have bit 0 (`NEEDED`) set."""
+    n = 0
+    for q in range(code.shape[0]):
+        n += code[q] & 1
+    return n
+
+
+@numba.njit(cache=True, nogil=True)
+def needed_nodes(code, B, flat, s_n, maybe, upper):
+    """The needed nodes of the slab's flat node codes in one pass, into arrays sized by `count_needed`.
+
+    ``flat``: their flat positions (increasing); ``s_n``: the sign the code's bits give
+    (``POSITIVE`` bit 1, ``NEGATIVE`` bit 2; 0 when unknown); ``maybe``: whether another block
+    may hold the node too (on a y/z face of its block or on its lower x plane); ``upper``:
+    whether it lies on the block's upper x plane (handed to the next slab).
+    """
+    n1 = B + 1
+    n2 = n1 * n1
+    n3 = n2 * n1
+    m = 0
+    for q in range(code.shape[0]):
+        c = code[q]
+        if c & 1:
+            flat[m] = q
+            s_n[m] = ((c >> 1) & 1) - ((c >> 2) & 1)
+            r = q % n3
+            x = r // n2
+            r -= x * n2
+            y = r // n1
+            z = r - y * n1
+            maybe[m] = y % B == 0 or z % B == 0 or x == 0
+            upper[m] = x == B
+            m += 1

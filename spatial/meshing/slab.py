@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import queue
 import sys
 import threading
@@ -11,8 +10,8 @@ import numpy as np
 
 from .saddles import break_ties
 from .arrays import _evaluate, _nudge, _release_free_memory, _repeat2, _settle_ties
-from .kernels import (block_boxes, block_input, crossing_ends, fill_values, infer_around, node_ids, node_points,
-                      ring_to_nodes, take_block)
+from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, infer_around, needed_nodes,
+                      node_ids, node_points, ring_to_nodes, take_block)
 
 __all__ = []
 
@@ -171,24 +170,25 @@ class _SlabJob:
             else:
                 code[b_, x_, y_, z_] |= np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
         # -- the needed nodes as a list, with global ids -----------------------------------
-        flat = np.flatnonzero((code.reshape(-1) & NEEDED).view(bool))  # NEEDED is bit 0: 0/1 bytes
-        n3 = (B + 1) ** 3
+        # (one compiled pass over the codes: positions, signs, and where the nodes lie in their block)
+        codes = code.reshape(-1)
+        n_need = count_needed(codes)
         # positions within the slab's arrays fit 32 bits: halves the memory of the node lists
         itype = np.int32 if code.size < 2 ** 31 else np.int64
-        flat = flat.astype(itype)
-        rest = flat % itype(n3)
+        flat = np.empty(n_need, dtype=itype)
+        s_n = np.empty(n_need, dtype=np.int8)
         # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
-        maybe = _shared_nodes(B)[rest]
-        top = np.flatnonzero(rest >= B * (B + 1) ** 2)  # the upper x plane, handed to the next slab
-        del rest
+        maybe = np.empty(n_need, dtype=np.bool_)
+        upper = np.empty(n_need, dtype=np.bool_)
+        needed_nodes(codes, B, flat, s_n, maybe, upper)
+        top = np.flatnonzero(upper)  # the upper x plane, handed to the next slab
+        del upper, codes
         y_base = (self.bys * B).astype(np.int64)
         z_base = (self.bzs * B).astype(np.int64)
 
         def ids(rows):
             return node_ids(flat, rows, B, int(x0), y_base, z_base, int(stride))
 
-        s_n = code.reshape(-1)[flat]
-        s_n = ((s_n >> 1) & 1).astype(np.int8) - ((s_n >> 2) & 1).astype(np.int8)
         v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
         for b_, x_, y_, z_, v in sampled:
             # nodes already sampled (never on a block face) hold their values
@@ -489,10 +489,3 @@ def run_slabs(tasks, parts, overlap=False):
 
 #: GIL switch interval (s) while slabs are prepared beside marching cubes.
 SWITCH_INTERVAL = 5e-4
-
-
-@functools.lru_cache(maxsize=8)
-def _shared_nodes(B):
-    """Flat mask of a block's nodes that another block may hold too: its y/z faces and its lower x plane."""
-    i, j, k = np.ogrid[:B + 1, :B + 1, :B + 1]
-    return ((j % B == 0) | (k % B == 0) | (i == 0)).reshape(-1)
