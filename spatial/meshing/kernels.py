@@ -370,22 +370,24 @@ def node_ids(flat, rows, B, x0, ybase, zbase, stride):
 
 
 @numba.njit(cache=True, nogil=True)
-def block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, vol, mask):
+def block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, vol, mask, with_values):
     """One block's box for marching cubes, written into the flat scratch arrays `vol` / `mask`
     (their first ``(nx+1)(ny+1)(nz+1)`` entries, every one of them written).
 
-    ``vol`` holds ``values[b, xs:xs+nx+1, ys:ys+ny+1, zs:zs+nz+1]``; ``mask[i+1, j+1, k+1]`` is
-    the cell (of `c` voxels) holding voxel ``(xs+i, ys+j, zs+k)``, the lower planes False
-    (scikit-image's convention for the voxel with lower node ``(i, j, k)``).
+    ``vol`` holds ``values[b, xs:xs+nx+1, ys:ys+ny+1, zs:zs+nz+1]`` (left alone unless
+    `with_values`); ``mask[i+1, j+1, k+1]`` is the cell (of `c` voxels) holding voxel ``(xs+i,
+    ys+j, zs+k)``, the lower planes False (scikit-image's convention for the voxel with lower node
+    ``(i, j, k)``).
     """
     my = ny + 1
     mz = nz + 1
     for i in range(nx + 1):
         for j in range(my):
             row = (i * my + j) * mz
-            src = values[b, xs + i, ys + j]
-            for k in range(mz):
-                vol[row + k] = src[zs + k]
+            if with_values:
+                src = values[b, xs + i, ys + j]
+                for k in range(mz):
+                    vol[row + k] = src[zs + k]
             mask[row] = False
             if i == 0 or j == 0:
                 for k in range(1, mz):

@@ -296,8 +296,10 @@ class _SlabJob:
             nx, ny, nz = ((highs[b] - lows[b]) * c).tolist()
             shape = (nx + 1, ny + 1, nz + 1)
             size = shape[0] * shape[1] * shape[2]
-            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask)
-            vol = flat_vol[:size].reshape(shape)
+            # a box spanning the block in y and z is a contiguous run of the slab's samples: no copy
+            whole = ys == 0 and zs == 0 and ny == B and nz == B
+            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask, not whole)
+            vol = values[b, xs:xs + nx + 1] if whole else flat_vol[:size].reshape(shape)
             mask = flat_mask[:size].reshape(shape)
             verts, tri = _marching_cubes_raw(break_ties(vol), mask)   # contacts fuse (saddles.py)
             if verts.shape[0] == 0 or tri.shape[0] == 0:
@@ -415,7 +417,7 @@ def run_slabs(tasks, parts, overlap=False):
     takes the previous one's handoff.  With `overlap`, a worker thread prepares slab ``k + 1``
     (compiled, GIL-free evaluation and bookkeeping for the most part) while this thread runs
     scikit-image's marching cubes on slab ``k`` (which holds the GIL): the two cores share the
-    work.  At most one prepared slab waits, so memory grows by one slab's arrays.  The parts
+    work.  At most two slabs are in flight, so memory grows by one slab's arrays.  The parts
     and counts are the same either way.
     """
     if not overlap:
@@ -434,34 +436,32 @@ def run_slabs(tasks, parts, overlap=False):
             _release_free_memory()
             yield job.nb, spent
         return
-    ready = queue.Queue(maxsize=1)
+    ready = queue.Queue()
     stop = threading.Event()
+    # at most two slabs in flight: the one being meshed here and the one being prepared; a slot is
+    # given back when a slab is meshed (so two sets of slab arrays, not three)
+    slots = threading.Semaphore(2)
 
-    def put(item):
+    def wait_slot():
         while not stop.is_set():
-            try:
-                ready.put(item, timeout=0.1)
+            if slots.acquire(timeout=0.1):
                 return True
-            except queue.Full:
-                continue
         return False
 
     def work():
         try:
             handoff = None
-            # a slab being meshed, one waiting and one being prepared: three sets in turn
-            pool = [_Scratch() for _ in range(3)]
+            pool = [_Scratch() for _ in range(2)]
             for k, (job, (sc, given, ring, centre_infer, extra)) in enumerate(tasks):
-                if stop.is_set():
+                if not wait_slot():
                     return
-                job.scratch = pool[k % 3]
+                job.scratch = pool[k % 2]
                 cells, values, spent, handoff = job.prepare(sc, given, ring, centre_infer, handoff, extra)
-                if not put((job, cells, values, spent)):
-                    return
+                ready.put((job, cells, values, spent))
                 del cells, values
-            put(None)
+            ready.put(None)
         except BaseException as exc:  # handed to the meshing thread, raised there
-            put(exc)
+            ready.put(exc)
 
     worker = threading.Thread(target=work, name="implicad-slab-prepare", daemon=True)
     # frequent hand-overs of the GIL: the worker's Python steps between its compiled calls should
@@ -469,6 +469,7 @@ def run_slabs(tasks, parts, overlap=False):
     interval = sys.getswitchinterval()
     sys.setswitchinterval(min(interval, SWITCH_INTERVAL))
     worker.start()
+    made = 0
     try:
         while True:
             item = ready.get()
@@ -478,8 +479,11 @@ def run_slabs(tasks, parts, overlap=False):
                 raise item
             job, cells, values, spent = item
             del item
-            job.mesh(cells, values, parts)
+            job.capacity_hint = max(job.capacity_hint, made + made // 4)
+            made = job.mesh(cells, values, parts)
             del cells, values
+            slots.release()
+            _release_free_memory()
             yield job.nb, spent
     finally:
         stop.set()
