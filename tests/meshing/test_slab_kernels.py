@@ -1,0 +1,106 @@
+"""The compiled per-slab kernels against the whole-array numpy they replace, and slab arrays lent
+from slab to slab leaving no trace in the mesh."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from implicit import box, cylinder, sphere
+from spatial import mesh
+from spatial.meshing.arrays import _repeat2
+from spatial.meshing.kernels import block_input, count_needed, needed_nodes
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.sampled_from([2, 4, 8]), st.integers(1, 3))
+def test_needed_nodes_is_the_numpy_formulation(seed, B, nb):
+    rng = np.random.default_rng(seed)
+    n1 = B + 1
+    code = rng.integers(0, 8, size=nb * n1 ** 3).astype(np.uint8)
+    flat0 = np.flatnonzero(code & 1)
+    rest = flat0 % n1 ** 3
+    i, j, k = np.unravel_index(rest, (n1, n1, n1))
+    s0 = ((code[flat0] >> 1) & 1).astype(np.int8) - ((code[flat0] >> 2) & 1).astype(np.int8)
+    n = count_needed(code)
+    assert n == flat0.size
+    flat = np.empty(n, np.int32)
+    s_n = np.empty(n, np.int8)
+    maybe = np.empty(n, np.bool_)
+    upper = np.empty(n, np.bool_)
+    needed_nodes(code, B, flat, s_n, maybe, upper)
+    assert np.array_equal(flat, flat0)
+    assert np.array_equal(s_n, s0)
+    assert np.array_equal(maybe, (j % B == 0) | (k % B == 0) | (i == 0))
+    assert np.array_equal(upper, i == B)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.booleans())
+def test_block_input_is_the_sliced_box_and_its_voxels(seed, with_values):
+    rng = np.random.default_rng(seed)
+    P, c = 4, 2
+    B = P * c
+    nb = 2
+    values = rng.standard_normal((nb, B + 1, B + 1, B + 1)).astype(np.float32)
+    cells = rng.random((nb, P, P, P)) < 0.3
+    b = int(rng.integers(nb))
+    lo = rng.integers(0, P, size=3)
+    hi = np.array([rng.integers(l + 1, P + 1) for l in lo])
+    xs, ys, zs = (lo * c).tolist()
+    nx, ny, nz = ((hi - lo) * c).tolist()
+    voxels = cells
+    for ax in (1, 2, 3):
+        voxels = _repeat2(voxels, ax)
+    want_vol = values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1]
+    want_mask = np.zeros(want_vol.shape, bool)
+    want_mask[1:, 1:, 1:] = voxels[b, xs:xs + nx, ys:ys + ny, zs:zs + nz]
+    # scratch full of garbage: every entry the box uses must be written
+    vol = np.full((B + 1) ** 3, np.nan, np.float32)
+    mask = np.ones((B + 1) ** 3, np.bool_)
+    block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, vol, mask, with_values)
+    size = want_vol.size
+    assert np.array_equal(mask[:size].reshape(want_vol.shape), want_mask)
+    if with_values:
+        assert np.array_equal(vol[:size].reshape(want_vol.shape), want_vol)
+    else:
+        assert np.isnan(vol).all()
+
+
+@pytest.mark.parametrize("overlap", [False, True])
+def test_lent_slab_arrays_leave_no_trace(monkeypatch, overlap):
+    """A mesh made after a larger one (whose slabs filled the lent arrays with other samples) and
+    after a smaller one is the mesh a fresh process makes; with one slab thread or two."""
+    import spatial.meshing.cells as cells_mod
+    from spatial.meshing.slab import run_slabs
+
+    monkeypatch.setattr(cells_mod, "run_slabs", lambda tasks, parts: run_slabs(tasks, parts, overlap=overlap))
+    part = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0))
+    first = mesh(part, resolution=36, block=8, progress=False)
+    mesh(sphere(0.7), resolution=60, block=8, progress=False)
+    mesh(box(1.0), resolution=12, block=8, progress=False)
+    again = mesh(part, resolution=36, block=8, progress=False)
+    assert first.n_cells > 0
+    assert np.array_equal(np.asarray(first.points), np.asarray(again.points))
+    assert np.array_equal(np.asarray(first.faces), np.asarray(again.faces))
+
+
+def test_lent_arrays_are_written_before_read(monkeypatch):
+    """Every slab array lent by `_Scratch` handed out full of garbage: the same mesh (nothing of an
+    earlier slab can show through)."""
+    from spatial.meshing import slab as slab_mod
+
+    part = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(0, 0, 1))
+    clean = mesh(part, resolution=40, block=8, progress=False)
+    take = slab_mod._Scratch.take
+
+    def dirty(self, name, shape, dtype):
+        arr = take(self, name, shape, dtype)
+        arr.view(np.uint8)[...] = 0xFF  # NaN floats, all code bits, True masks
+        return arr
+
+    monkeypatch.setattr(slab_mod._Scratch, "take", dirty)
+    soiled = mesh(part, resolution=40, block=8, progress=False)
+    assert np.array_equal(np.asarray(clean.points), np.asarray(soiled.points))
+    assert np.array_equal(np.asarray(clean.faces), np.asarray(soiled.faces))
