@@ -136,7 +136,7 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
                       refine=refine, progress=progress, evaluations=found["evaluations"], block=block,
                       centre_values=found.pop("centres"), uniform_cells=found.pop("uniform"),
                       uniform_parents=found.pop("uniform_parents"),
-                      node_values=found.pop("nodes"), features=bool(features), _stacklevel=3)
+                      node_values=found.pop("nodes"), features=bool(features), slab_threads=2, _stacklevel=3)
 
 
 def _warn_thin(solid, h, bounds=None):

@@ -17,10 +17,14 @@ from .slab import _SlabJob, run_slabs
 
 __all__ = ["mesh_cells"]
 
+#: Slabs from which ``slab_threads=2`` starts the second thread (below, its start costs more than it
+#: can save).
+OVERLAP_MIN_SLABS = 3
+
 
 def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
                block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, uniform_parents=None, node_values=None,
-               features=False, stride=None, edge_ids=False, _stacklevel=2):
+               features=False, stride=None, edge_ids=False, slab_threads=1, _stacklevel=2):
     """Mesh the boundary through the given cells of a lattice.
 
     Parameters
@@ -59,6 +63,10 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     edge_ids : bool
         Add point data ``edge_id``: the lattice edge ``3 * id + axis`` of each
         vertex (the key that fuses the meshes of neighbouring parts).
+    slab_threads : {1, 2}
+        2: a second thread samples the next slab while marching cubes runs
+        on this one (`slab.run_slabs`), from `OVERLAP_MIN_SLABS` slabs on; the
+        mesh is the same, bit for bit.
 
     Returns
     -------
@@ -87,6 +95,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         return empty_mesh(h, evaluations)
     if np.any(cells < 0):
         raise ValueError("cells: expected non-negative lattice indices")
+    if isinstance(slab_threads, bool) or slab_threads not in (1, 2):
+        raise ValueError(f"slab_threads: expected 1 or 2, got {slab_threads!r}")
     if edge_ids and features:
         raise ValueError("edge_ids: the feature pass moves and adds vertices off their lattice edges; "
                          "give edge_ids=True or features=True, not both")
@@ -168,7 +178,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             del sc, given, ring, ring_parents, extra
 
     try:
-        for nb, spent in run_slabs(tasks(), parts):
+        overlap = slab_threads == 2 and len(pieces) >= OVERLAP_MIN_SLABS
+        for nb, spent in run_slabs(tasks(), parts, overlap=overlap):
             n_blocks += nb
             evaluations += spent
             bar.update()

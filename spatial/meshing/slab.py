@@ -466,8 +466,7 @@ def run_slabs(tasks, parts, overlap=False):
     worker = threading.Thread(target=work, name="implicad-slab-prepare", daemon=True)
     # frequent hand-overs of the GIL: the worker's Python steps between its compiled calls should
     # not wait out the default 5 ms while marching cubes runs block after block
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(min(interval, SWITCH_INTERVAL))
+    _short_switches(True)
     worker.start()
     made = 0
     try:
@@ -488,7 +487,26 @@ def run_slabs(tasks, parts, overlap=False):
     finally:
         stop.set()
         worker.join()
-        sys.setswitchinterval(interval)
+        _short_switches(False)
+
+
+_SWITCH_LOCK = threading.Lock()
+_SWITCH_STATE = [0, None]  # meshes overlapping now, the interval before the first of them
+
+
+def _short_switches(enter):
+    """Shorten the interpreter's GIL switch interval while any overlapped mesh runs (meshes may run
+    in several threads at once: the first one in saves the interval, the last one out restores it)."""
+    with _SWITCH_LOCK:
+        if enter:
+            if _SWITCH_STATE[0] == 0:
+                _SWITCH_STATE[1] = sys.getswitchinterval()
+                sys.setswitchinterval(min(_SWITCH_STATE[1], SWITCH_INTERVAL))
+            _SWITCH_STATE[0] += 1
+        else:
+            _SWITCH_STATE[0] -= 1
+            if _SWITCH_STATE[0] == 0:
+                sys.setswitchinterval(_SWITCH_STATE[1])
 
 
 #: GIL switch interval (s) while slabs are prepared beside marching cubes.

@@ -291,8 +291,10 @@ def test_slabs_prepared_on_a_worker_thread_give_the_same_mesh(monkeypatch):
     from spatial.meshing.slab import run_slabs
 
     part = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0))
+    monkeypatch.setattr(cells_mod, "run_slabs", lambda tasks, parts, overlap=False: run_slabs(tasks, parts))
     serial = mesh(part, resolution=40, block=8, progress=False, features=False)
-    monkeypatch.setattr(cells_mod, "run_slabs", lambda tasks, parts: run_slabs(tasks, parts, overlap=True))
+    monkeypatch.setattr(cells_mod, "run_slabs", lambda tasks, parts, overlap=False: run_slabs(tasks, parts,
+                                                                                              overlap=True))
     threaded = mesh(part, resolution=40, block=8, progress=False, features=False)
     assert np.array_equal(np.asarray(serial.points), np.asarray(threaded.points))
     assert np.array_equal(np.asarray(serial.faces), np.asarray(threaded.faces))

@@ -75,7 +75,8 @@ def test_lent_slab_arrays_leave_no_trace(monkeypatch, overlap):
     import spatial.meshing.cells as cells_mod
     from spatial.meshing.slab import run_slabs
 
-    monkeypatch.setattr(cells_mod, "run_slabs", lambda tasks, parts: run_slabs(tasks, parts, overlap=overlap))
+    monkeypatch.setattr(cells_mod, "run_slabs", lambda tasks, parts, overlap=False, _o=overlap: run_slabs(
+        tasks, parts, overlap=_o))
     part = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0))
     first = mesh(part, resolution=36, block=8, progress=False)
     mesh(sphere(0.7), resolution=60, block=8, progress=False)
@@ -104,3 +105,22 @@ def test_lent_arrays_are_written_before_read(monkeypatch):
     soiled = mesh(part, resolution=40, block=8, progress=False)
     assert np.array_equal(np.asarray(clean.points), np.asarray(soiled.points))
     assert np.array_equal(np.asarray(clean.faces), np.asarray(soiled.faces))
+
+
+def test_mesh_samples_slabs_on_two_threads_and_mesh_cells_checks_the_count(monkeypatch):
+    import spatial.meshing.cells as cells_mod
+    from spatial.meshing.cells import mesh_cells
+    from spatial.meshing.slab import run_slabs
+
+    seen = []
+
+    def spy(tasks, parts, overlap=False):
+        seen.append(overlap)
+        return run_slabs(tasks, parts, overlap=overlap)
+
+    monkeypatch.setattr(cells_mod, "run_slabs", spy)
+    mesh(sphere(1.0), resolution=40, block=8, progress=False)    # 6 slabs: two threads
+    mesh(sphere(1.0), resolution=12, block=8, progress=False)    # 2 slabs: one
+    assert seen == [True, False]
+    with pytest.raises(ValueError, match="slab_threads"):
+        mesh_cells(sphere(1.0), (0.0, 0.0, 0.0), 0.1, [[0, 0, 0]], slab_threads=3)
