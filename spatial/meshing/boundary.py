@@ -19,7 +19,8 @@ twice the voxel size, keeps their BOUNDARY cells and meshes only them:
 2. the cells are grouped into blocks of ``block**3`` voxels; every block is
    meshed independently by scikit-image's Lewiner marching cubes restricted
    (``mask=``) to the voxels of its boundary cells -- a pure function of the
-   block's samples, ready to run elsewhere (`mesh_block`);
+   block's samples, ready to run elsewhere (`mesh_block`); a second thread samples the
+   next slab meanwhile (scikit-image holds the GIL, the compiled sampling mostly does not);
 3. the blocks' triangles are merged into ONE indexed mesh whose vertices are
    keyed by the lattice edge they lie on (integer id ``3 * node + axis`` of
    the edge's lower node): no floating-point de-duplication (`merge_blocks`);
