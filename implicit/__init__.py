@@ -8,7 +8,7 @@ Examples
 3
 """
 
-from .solid import Solid, INFINITE_BOUNDS
+from .solid import Solid, INFINITE_BOUNDS, register_kind_loader as _register_kind_loader
 from .primitives import (
     halfspace, sphere, box, rounded_box, cylinder, cone, frustum, torus, ellipsoid, capsule,
 )
@@ -23,10 +23,6 @@ from .sweeps import Profile, circle, rectangle, polygon, extrude, revolve
 from .families import families, instance
 from .serialize import to_json, from_json
 from .models import load_model, load_assembly
-from .parametric_solids import (
-    curve_profile, revolve_curve, extrude_curve, sweep, thicken, surface_solid, volume_solid,
-)
-from .star_solids import star_solid, fit_radial_function
 from . import library  # noqa: F401  (registers the part library's families with `families`)
 
 __all__ = [
@@ -42,6 +38,37 @@ __all__ = [
     "curve_profile", "revolve_curve", "extrude_curve", "sweep", "thicken", "surface_solid", "volume_solid",
     "star_solid", "fit_radial_function",
 ]
+
+# Solids from parametric curves, surfaces and volumes (and scipy, which they need) load when one
+# of their names is first read here, or when a decoded tree holds one of their kinds.
+_LAZY = {
+    "curve_profile": "parametric_solids", "revolve_curve": "parametric_solids",
+    "extrude_curve": "parametric_solids", "sweep": "parametric_solids", "thicken": "parametric_solids",
+    "surface_solid": "parametric_solids", "volume_solid": "parametric_solids",
+    "star_solid": "star_solids", "fit_radial_function": "star_solids",
+}
+
+
+def _load_later_kinds():
+    from . import parametric_solids, star_solids  # noqa: F401  (their classes register their kinds)
+
+
+def __getattr__(name):
+    if name not in _LAZY:
+        raise AttributeError(f"module 'implicit' has no attribute {name!r}")
+    _load_later_kinds()
+    from . import parametric_solids, star_solids
+
+    value = getattr(parametric_solids if _LAZY[name] == "parametric_solids" else star_solids, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
+
+_register_kind_loader(_load_later_kinds)
 
 # Last: the compiled evaluator registers itself with the nodes (it needs numba).
 try:

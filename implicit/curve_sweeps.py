@@ -29,7 +29,6 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from parametric.curves import BSpline, Curve
 
@@ -90,6 +89,8 @@ class CurveProjector:
             ts = np.union1d(ts, np.clip(np.asarray(curve.knots, dtype=float), a, b))
         self.ts = ts[:-1] if closed else ts
         self.points = curve(self.ts)
+        from scipy.spatial import cKDTree  # local: scipy.spatial costs 0.25 s to import
+
         self.tree = cKDTree(self.points)
         self.dt = (self.b - self.a) / int(samples)
 

@@ -33,7 +33,6 @@ segmentation using generalized winding numbers", ACM Trans. Graph. 32(4),
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from parametric.surfaces import Surface
 from parametric.volumes import BSplineVolume
@@ -327,6 +326,8 @@ class VolumeSolid(Solid):
         super().__init__((), {"volume": volume_to_dict(vol)}, (lo, hi), exact=True)
         object.__setattr__(self, "_volume", vol)
         object.__setattr__(self, "_projs", tuple(SurfaceProjector(faces[k]) for k in keep))
+        from scipy.spatial import cKDTree  # local: scipy.spatial costs 0.25 s to import
+
         object.__setattr__(self, "_tree", cKDTree(X))
         object.__setattr__(self, "_uvw", UVW)
         object.__setattr__(self, "_size", size)

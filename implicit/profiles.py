@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solid import _fmt, as_finite, as_positive, as_vector
+from .solid import _fmt, as_finite, as_positive, as_vector, load_all_kinds
 
 __all__ = [
     "Profile",
@@ -337,6 +337,9 @@ class Profile:
             raise TypeError(f"{path}: expected a profile object, got {type(data).__name__}")
         kind = data.get("kind")
         cls = Profile.registry.get(kind) if isinstance(kind, str) else None
+        if cls is None and isinstance(kind, str):
+            load_all_kinds()  # the kinds `import implicit` left for later (curve profiles)
+            cls = Profile.registry.get(kind)
         if cls is None:
             raise ValueError(f"{path}.kind: unknown profile kind {kind!r}; known: {', '.join(sorted(Profile.registry))}")
         params = {k: v for k, v in data.items() if k not in ("kind", "children")}

@@ -32,7 +32,7 @@ import inspect
 import json
 from typing import Any
 
-from .solid import Solid
+from .solid import Solid, load_all_kinds
 from . import primitives, csg, transforms, modifiers, polyhedra, profiles, sweeps, families  # noqa: F401  (register kinds)
 
 __all__ = ["to_dict", "to_json", "from_dict", "from_json", "MAX_DEPTH", "MAX_NODES", "MAX_CHARS", "FORMAT_KEYS"]
@@ -172,6 +172,9 @@ def from_dict(data: Any, *, max_depth: int = MAX_DEPTH, max_nodes: int = MAX_NOD
         if not isinstance(kind, str):
             raise TypeError(f"{path_s}.kind: expected a node kind (a string), got {_describe(kind)}")
         cls = Solid.registry.get(kind)
+        if cls is None:
+            load_all_kinds()  # the kinds `import implicit` left for later
+            cls = Solid.registry.get(kind)
         if cls is None:
             raise ValueError(f"{path_s}.kind: unknown node kind {kind!r}; known: {', '.join(sorted(Solid.registry))}")
         raw = node.get("children", [])

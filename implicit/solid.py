@@ -513,6 +513,25 @@ def register_evaluator(*, fast_evaluate: Callable, compile_solid: Callable) -> N
     _evaluator.update(fast_evaluate=fast_evaluate, compile_solid=compile_solid)
 
 
+_kind_loaders: list[Callable] = []
+
+
+def register_kind_loader(loader: Callable) -> None:
+    """Register `loader`, which imports node modules that ``import implicit`` leaves for later.
+
+    Decoding calls `load_all_kinds` before it calls a kind unknown: the
+    parametric solids (and scipy, which they need) load only then, or when
+    their names are first read from `implicit`.
+    """
+    _kind_loaders.append(loader)
+
+
+def load_all_kinds() -> None:
+    """Import every node module registered for later, so that `Solid.registry` holds every kind."""
+    while _kind_loaders:
+        _kind_loaders.pop()()
+
+
 def register_operator(name: str):
     """Decorator: make `func` the implementation behind `Solid.<name>`."""
     def deco(func):

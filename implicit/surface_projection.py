@@ -23,7 +23,6 @@ segmentation using generalized winding numbers", ACM Trans. Graph. 32(4),
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from parametric.surfaces import BicubicPatch, Surface
 from parametric.tensor import BezierSurface, BSplineSurface, NURBSSurface
@@ -207,6 +206,8 @@ class SurfaceProjector:
         self.closed_v = bool(np.max(np.linalg.norm(grid[:, 0] - grid[:, -1], axis=-1)) <= tol)
         self.su, self.sv = su[keep_u], sv[keep_v]
         self.points = np.ascontiguousarray(grid[keep_u][:, keep_v].reshape(-1, 3))
+        from scipy.spatial import cKDTree  # local: scipy.spatial costs 0.25 s to import
+
         self.tree = cKDTree(self.points)
 
     def _edge_steps(self, ua, va, du, dv, cu, cv, f, g, a11, a12, a22):

@@ -9,7 +9,6 @@ References are to The NURBS Book (Piegl and Tiller, 2nd ed.).
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import solve_banded
 
 from .basis import (KNOT_TOL, basis_funs, basis_matrix, ders_basis_funs, find_span,
                     greville)
@@ -177,6 +176,8 @@ def collocate(func, U_new, p_new):
     upper = int(max(0, np.max(cols - rows)))
     ab = np.zeros((lower + upper + 1, n1))
     ab[upper + rows - cols, cols] = N
+    from scipy.linalg import solve_banded  # local: scipy.linalg costs 0.1 s to import
+
     Q = solve_banded((lower, upper), ab, vals.reshape(n1, -1))
     return Q.reshape((n1,) + tail)
 

@@ -4,7 +4,6 @@ decomposition (`elevate`), and the exact derivative of a rational curve (see `pa
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import comb
 
 from .basis import (KNOT_TOL)
 
@@ -136,6 +135,8 @@ def bezier_product(F, G):
     trailing shapes broadcast); the product has degree ``m + n``:
     ``H_k = sum_{i + j = k} C(m, i) C(n, j) / C(m + n, k) F_i G_j``.
     """
+    from scipy.special import comb  # local: scipy.special costs 0.1 s to import
+
     m, n = F.shape[1] - 1, G.shape[1] - 1
     shape = np.broadcast_shapes(F.shape[2:], G.shape[2:])
     H = np.zeros((F.shape[0], m + n + 1) + shape)

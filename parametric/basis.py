@@ -12,7 +12,6 @@ the parametric domain ``[U[p], U[n + 1]]``.
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import comb
 
 __all__ = [
     "KNOT_TOL",
@@ -60,6 +59,8 @@ def bernstein(degree, u):
     >>> bernstein(2, 0.5)
     array([0.25, 0.5 , 0.25])
     """
+    from scipy.special import comb  # local: scipy.special costs 0.1 s to import
+
     n = _check_degree(degree, "degree", minimum=0)
     uu = _as_params(u)
     scalar = uu.ndim == 0

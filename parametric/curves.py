@@ -12,7 +12,6 @@ doi:10.1007/978-3-642-59223-2 (algorithm numbers A2.x-A5.x are cited per method)
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import comb
 
 from . import _ops
 from .basis import _check_degree, bernstein, clamped_knots, periodic_knots, validate_knots
@@ -446,6 +445,8 @@ class NURBS(BSpline):
 
     def _derivs(self, u, order):
         """Rational derivatives from homogeneous ones (A4.2, vectorized)."""
+        from scipy.special import comb  # local: scipy.special costs 0.1 s to import
+
         H = _ops.eval_derivs(self._U, self._p, self._Pw, u, order)
         A, w = H[:, :, :-1], H[:, :, -1]
         C = np.empty_like(A)

@@ -16,7 +16,6 @@ than the nearest sample.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .curves import BSpline, Curve
 from .surfaces import Surface
@@ -104,6 +103,8 @@ def project_to_curve(curve, points, *, samples=None, iterations=30, tol=PROJECTI
     scale = max(1.0, float(np.ptp(pts, axis=0).max()))
     closed = np.linalg.norm(pts[0] - pts[-1]) <= 1e-10 * scale
     k = min(int(seeds), ts.size)
+    from scipy.spatial import cKDTree  # local: scipy.spatial costs 0.25 s to import
+
     dist, idx = cKDTree(pts).query(P, k=k)
     dist, idx = dist.reshape(P.shape[0], k), idx.reshape(P.shape[0], k)
     u, d2 = _curve_newton(curve, P, ts[idx[:, 0]], a, b, closed, iterations, tol, scale)
@@ -261,6 +262,8 @@ def project_to_surface(surface, points, *, samples=None, iterations=30, tol=PROJ
     ns_u, ns_v = su.size, sv.size
     k = min(int(seeds), ns_u * ns_v)
     flat = grid.reshape(-1, surface.dim)
+    from scipy.spatial import cKDTree  # local: scipy.spatial costs 0.25 s to import
+
     dist, idx = cKDTree(flat).query(P, k=k)
     dist, idx = dist.reshape(P.shape[0], k), idx.reshape(P.shape[0], k)
     dom = (au, bu, av, bv, closed_u, closed_v)

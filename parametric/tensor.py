@@ -12,7 +12,6 @@ A8.1 (surfaces of revolution).
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import comb
 
 from . import _ops
 from .basis import (_check_degree, basis_funs, basis_matrix, clamped_knots, ders_basis_funs,
@@ -325,6 +324,8 @@ class NURBSSurface(BSplineSurface):
 
     def _derivs(self, u, v, order):
         """Rational partial derivatives from homogeneous ones (A4.4)."""
+        from scipy.special import comb  # local: scipy.special costs 0.1 s to import
+
         H = tp_derivs(self._Uu, self._p, self._Uv, self._q, self._Pw, u, v, order, order)
         A, w = H[..., :-1], H[..., -1]
         S = np.zeros_like(A)

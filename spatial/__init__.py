@@ -19,30 +19,56 @@ imports only from itself and the rooms below it:
 ==============  ==========================================================
 
 This module re-exports the public names, so ``spatial.mesh``,
-``spatial.mass_properties`` and the rest work as before.
+``spatial.mass_properties`` and the rest work as before; each is imported
+the first time it is read (`spatial.files.lazy`), so ``import spatial``
+loads no room and a job pays only for the rooms it uses.
 """
 
-from .cells import EMPTY, FULL, BOUNDARY, Octree, OccupancyGrid  # noqa: F401
-from .cells import mesh_to_solid, save_vdb, load_vdb  # noqa: F401
-from .cells import min_feature_size, thin_wall  # noqa: F401
-from .files import save_mesh, load_mesh  # noqa: F401
-from .meshing import mesh as _mesh_here, feature_edges, FeatureCurves  # noqa: F401
-from .analysis import MassProperties, ToleranceError, mass_properties as _mass_here  # noqa: F401
-from .distributed.warn import user_warnings as _user_warnings  # noqa: E402
-from .analysis import Topology, ValidityReport, topology, check, triangle_defects  # noqa: F401
-# (the functions `section` and `interference` stay in their modules, whose names they share)
-from .analysis import Section  # noqa: F401
-from .analysis import Interference, check_assembly  # noqa: F401
-from .analysis import BillOfMaterials, bill_of_materials  # noqa: F401
-# (`spatial.manufacturing.slice` keeps its room's name: it would hide the built-in here)
-from .manufacturing import Slices, ToolPath, Verification, toolpath  # noqa: F401
-from .inspection import Inspection, StackUp, Tolerance, stackup  # noqa: F401
-from .fea import surface_for_fea, surface_quality, tet_mesh, TetMesh, TetQuality, write_fea  # noqa: F401
-from .fea import write_static_deck, run_calculix, read_frd  # noqa: F401
-from .convert import (  # noqa: F401
-    fit_section_curve, loft_sections, fit_star_surface, surface_to_mesh, curve_to_polydata, isoparametric_polydata,
-)
-from .drafting import part_drawing, assembly_drawing, write_drawing  # noqa: F401
+from .files.lazy import lazy_exports
+
+#: Public names and the room each comes from (read on first use; the functions `section`,
+#: `interference` and `compare` stay in their modules, whose names they share, and
+#: `spatial.manufacturing.slice` keeps its room's name: it would hide the built-in here).
+_LAZY = {
+    "EMPTY": (".cells", "EMPTY"), "FULL": (".cells", "FULL"), "BOUNDARY": (".cells", "BOUNDARY"),
+    "Octree": (".cells", "Octree"), "OccupancyGrid": (".cells", "OccupancyGrid"),
+    "mesh_to_solid": (".cells", "mesh_to_solid"), "save_vdb": (".cells", "save_vdb"),
+    "load_vdb": (".cells", "load_vdb"), "min_feature_size": (".cells", "min_feature_size"),
+    "thin_wall": (".cells", "thin_wall"),
+    "save_mesh": (".files", "save_mesh"), "load_mesh": (".files", "load_mesh"),
+    "feature_edges": (".meshing", "feature_edges"), "FeatureCurves": (".meshing", "FeatureCurves"),
+    "MassProperties": (".analysis", "MassProperties"), "ToleranceError": (".analysis", "ToleranceError"),
+    "Topology": (".analysis", "Topology"), "ValidityReport": (".analysis", "ValidityReport"),
+    "topology": (".analysis", "topology"), "check": (".analysis", "check"),
+    "triangle_defects": (".analysis", "triangle_defects"), "Section": (".analysis", "Section"),
+    "Interference": (".analysis", "Interference"), "check_assembly": (".analysis", "check_assembly"),
+    "BillOfMaterials": (".analysis", "BillOfMaterials"), "bill_of_materials": (".analysis", "bill_of_materials"),
+    "Slices": (".manufacturing", "Slices"), "ToolPath": (".manufacturing", "ToolPath"),
+    "Verification": (".manufacturing", "Verification"), "toolpath": (".manufacturing", "toolpath"),
+    "Inspection": (".inspection", "Inspection"), "StackUp": (".inspection", "StackUp"),
+    "Tolerance": (".inspection", "Tolerance"), "stackup": (".inspection", "stackup"),
+    "surface_for_fea": (".fea", "surface_for_fea"), "surface_quality": (".fea", "surface_quality"),
+    "tet_mesh": (".fea", "tet_mesh"), "TetMesh": (".fea", "TetMesh"), "TetQuality": (".fea", "TetQuality"),
+    "write_fea": (".fea", "write_fea"), "write_static_deck": (".fea", "write_static_deck"),
+    "run_calculix": (".fea", "run_calculix"), "read_frd": (".fea", "read_frd"),
+    "fit_section_curve": (".convert", "fit_section_curve"), "loft_sections": (".convert", "loft_sections"),
+    "fit_star_surface": (".convert", "fit_star_surface"), "surface_to_mesh": (".convert", "surface_to_mesh"),
+    "curve_to_polydata": (".convert", "curve_to_polydata"),
+    "isoparametric_polydata": (".convert", "isoparametric_polydata"),
+    "part_drawing": (".drafting", "part_drawing"), "assembly_drawing": (".drafting", "assembly_drawing"),
+    "write_drawing": (".drafting", "write_drawing"),
+    "brep": (".compare", "brep"), "half_space_form": (".compare", "half_space_form"),
+    "Comparison": (".compare", "Comparison"), "BRep": (".compare", "BRep"),
+    "report": (".compare.report", "report"),
+    # the rooms themselves: `spatial.analysis.section(...)` after a bare `import spatial`
+    "files": (".files", None), "cells": (".cells", None), "meshing": (".meshing", None),
+    "analysis": (".analysis", None), "convert": (".convert", None), "fea": (".fea", None),
+    "drafting": (".drafting", None), "manufacturing": (".manufacturing", None), "inspection": (".inspection", None),
+    "distributed": (".distributed", None), "compare": (".compare", None), "cli": (".cli", None),
+}
+
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY)
+__all__ = sorted(["mesh", "mass_properties", *(name for name, (_, attribute) in _LAZY.items() if attribute)])
 
 
 def mesh(solid, *, client=None, workers=None, **options):
@@ -61,8 +87,11 @@ def mesh(solid, *, client=None, workers=None, **options):
     True
     """
     if client is None and workers is None:
+        from .distributed.warn import user_warnings
+        from .meshing import mesh as mesh_here
+
         # (warnings at the caller's line, not this wrapper's)
-        return _user_warnings(_mesh_here)(solid, **options)
+        return user_warnings(mesh_here)(solid, **options)
     from .distributed import mesh as _mesh_on_cluster
 
     return _mesh_on_cluster(solid, client=client, workers=workers, **options)
@@ -82,12 +111,11 @@ def mass_properties(obj, *, client=None, workers=None, **options):
     2.0
     """
     if client is None and workers is None:
-        return _user_warnings(_mass_here)(obj, **options)
+        from .analysis import mass_properties as mass_here
+        from .distributed.warn import user_warnings
+
+        return user_warnings(mass_here)(obj, **options)
     from .distributed import mass_properties as _mass_on_cluster
 
     return _mass_on_cluster(obj, client=client, workers=workers, **options)
 
-
-# (the function `compare` stays in its room, whose name it shares: spatial.compare.compare)
-from .compare import brep, half_space_form, Comparison, BRep  # noqa: E402,F401
-from .compare.report import report  # noqa: E402,F401

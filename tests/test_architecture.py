@@ -66,7 +66,24 @@ def _imports(name: str, path: Path) -> set[str]:
                 child = f"{module}.{alias.name}"
                 # `from pkg import mod` imports the submodule; `from pkg import name` the package.
                 targets.add(child if child in MODULES else module)
+    targets |= _lazy_targets(here, path)
     return {t for t in targets if t in MODULES and t != name}
+
+
+def _lazy_targets(here: list[str], path: Path) -> set[str]:
+    """The modules a package's table of lazy names (``_LAZY = {name: (".room", attribute)}``,
+    `spatial.files.lazy`) imports on first use: edges of the graph like any import."""
+    targets = set()
+    for node in ast.parse(path.read_text(), str(path)).body:
+        if not (isinstance(node, ast.Assign) and isinstance(node.value, ast.Dict)
+                and any(isinstance(t, ast.Name) and t.id == "_LAZY" for t in node.targets)):
+            continue
+        for value in node.value.values:
+            where = value.elts[0].value if isinstance(value, ast.Tuple) else value.value
+            level = len(where) - len(where.lstrip("."))
+            base = here[:len(here) - level + 1] if level else []
+            targets.add(".".join(base + [where.lstrip(".")]))
+    return targets
 
 
 GRAPH = {name: _imports(name, path) for name, path in MODULES.items()}
@@ -185,6 +202,10 @@ def test_evaluator_not_imported_by_nodes_at_module_level():
         for node in tree.body:
             if isinstance(node, ast.ImportFrom) and node.module and "evaluate" in node.module.split("."):
                 pytest.fail(f"{name} imports the evaluator at module level")
+
+
+def test_lazy_tables_are_edges_of_the_graph():
+    assert {"spatial.fea", "spatial.compare.report", "spatial.cli"} <= GRAPH["spatial"]
 
 
 def test_public_names_of_spatial_kept():

@@ -43,7 +43,8 @@ for dir in /usr/lib/python3/dist-packages /usr/lib/python3.*/dist-packages; do
     fi
 done
 "$VENV/bin/python" -c 'import pyopenvdb' 2>/dev/null || echo "setup: pyopenvdb is not importable; openvdb features are off"
-# Compile the evaluator's numba kernels once, into numba's on-disk cache: later processes load them.
-"$VENV/bin/python" -c 'from implicit.evaluate.kernels import prime_cache; prime_cache()' \
-    || echo "setup: the numba kernels could not be compiled; evaluation falls back to numpy"
+# Compile the numba kernels of the evaluator, the mesher and mass properties once, into numba's
+# on-disk cache: later processes, the first `implicad mesh` after set-up included, load them.
+"$VENV/bin/python" tools/prime_kernels.py \
+    || echo "setup: the numba kernels could not be compiled; the first runs will compile them"
 touch "$VENV/.installed"

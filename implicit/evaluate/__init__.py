@@ -17,11 +17,13 @@ Examples
 """
 
 from ..solid import register_evaluator
+from .numba_start import install as _install_numba_start
 from .tape import OPS, PRUNE_MODES, RULES, KernelSource, Tape, Unsupported, register_rule  # noqa: F401
 from . import rules  # noqa: F401  (the node kinds' rules register themselves)
 from .compile import compile_solid, fast_evaluate  # noqa: F401
 
 register_evaluator(fast_evaluate=fast_evaluate, compile_solid=compile_solid)
+_install_numba_start()  # cached kernels load without numba's 0.3 s target refresh
 
 __all__ = ["compile_solid", "fast_evaluate", "Tape", "KernelSource", "Unsupported", "register_rule", "RULES", "OPS",
            "PRUNE_MODES"]

@@ -21,26 +21,31 @@ from .common import add_common_flags, install_warning_handler
 
 __all__ = ["main", "build_parser", "CommandError", "NoResult"]
 
-#: Sub-command modules, in the order `--help` lists them.
-COMMAND_MODULES = (
-    "info",
-    "families",
-    "mesh",
-    "mass",
-    "check",
-    "section",
-    "interfere",
-    "fea",
-    "render",
-    "draw",
-    "slice",
-    "toolpath",
-    "inspect",
-    "stackup",
-    "bom",
-    "compare",
-    "report",
-)
+#: Sub-command modules, in the order `--help` lists them, with their one-line help (the module's
+#: ``HELP``): a command imports only its own module, the others are listed from this table.
+COMMANDS = {
+    "info": "show a model's CSG tree, bounds, counts and family parameters",
+    "families": "list the part families and their parameters",
+    "mesh": "write a watertight boundary mesh (STL, PLY, OBJ, VTP, VTK) of a model",
+    "mass": "volume, mass, area, centroid and inertia of a model, with error bounds",
+    "check": "check that a model is a valid solid (exit 1 if not)",
+    "section": "cut a model by a plane: loops, holes, area and second moments; plot or polylines",
+    "interfere": "find interfering and touching parts of an assembly (exit 1 if any interfere)",
+    "fea": "tetrahedral mesh, linear-static deck and CalculiX run (.inp .msh .vtu .bdf .med .stl .ply; "
+           "--results .frd)",
+    "render": "draw a part or an assembly to a PNG picture",
+    "draw": "an engineering drawing: views, hidden lines, dimensions, sections, exploded assemblies "
+            "(SVG/PDF/DXF/PNG)",
+    "slice": "cut a model into layers of closed contours (JSON, SVG or CSV) for additive manufacturing",
+    "toolpath": "2.5D milling tool paths as G-code (pockets, profiles, lead-ins), optionally verified by "
+                "material removal",
+    "inspect": "compare a scanned part (mesh or point cloud) with its design: deviations, pass/fail, pictures",
+    "stackup": "tolerance stack-up of a clearance: worst case, RSS, Monte-Carlo, probability of interference",
+    "bom": "bill of materials of an assembly: items, families, materials, volumes, masses, counts (CSV, JSON)",
+    "compare": "compare every representation scheme of a model: storage, build time, volume error, queries",
+    "report": "write the full report of a model (Markdown, HTML, JSON and pictures)",
+}
+COMMAND_MODULES = tuple(COMMANDS)
 
 
 class CommandError(Exception):
@@ -59,21 +64,31 @@ def _version() -> str:
         return "unknown"
 
 
-def _load_commands():
-    commands = []
-    for name in COMMAND_MODULES:
-        try:
-            module = importlib.import_module(f"spatial.cli.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name == f"spatial.cli.{name}":
-                continue
-            raise
-        commands.append(module)
-    return commands
+def _load_command(name):
+    """The module of sub-command `name`, or None when it is not installed."""
+    try:
+        return importlib.import_module(f"spatial.cli.{name}")
+    except ModuleNotFoundError as exc:
+        if exc.name == f"spatial.cli.{name}":
+            return None
+        raise
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of `implicad` with every available sub-command."""
+def command_of(argv) -> str | None:
+    """The sub-command `argv` asks for (its first word that is not a flag), or None."""
+    for word in argv:
+        if not word.startswith("-"):
+            return word if word in COMMANDS else None
+    return None
+
+
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser of `implicad` with every available sub-command.
+
+    With `only`, that sub-command alone is imported and given its arguments;
+    the others are listed by name and help (what ``--help`` and an unknown
+    command's error show), so a command pays for its own imports only.
+    """
     parser = argparse.ArgumentParser(
         prog="implicad",
         description="Volumetric / implicit solid modeler: CSG solids, octree cells, "
@@ -84,7 +99,13 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true", help="show a traceback on errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for module in _load_commands():
+    for name, help_text in COMMANDS.items():
+        if only is not None and name != only:
+            sub.add_parser(name, help=help_text, add_help=False)
+            continue
+        module = _load_command(name)
+        if module is None:
+            continue
         p = sub.add_parser(module.NAME, help=module.HELP, description=getattr(module, "DESCRIPTION", module.HELP),
                            epilog=_EPILOG)
         p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help="show a traceback on errors")
@@ -92,8 +113,6 @@ def build_parser() -> argparse.ArgumentParser:
         p.set_defaults(_run=module.run, _native_json="--json" in p._option_string_actions, _name=module.NAME)
         add_common_flags(p)
     return parser
-
-
 
 
 def quiet_vtk() -> None:
@@ -119,6 +138,48 @@ def quiet_vtk() -> None:
 
 
 _KEEP: list = []
+_VTK = "vtkmodules"
+
+
+def quiet_vtk_when_loaded() -> None:
+    """`quiet_vtk` as soon as VTK is imported, without importing it (0.1 s) for commands that never use it.
+
+    A finder at the head of ``sys.meta_path`` wraps the loader of the ``vtkmodules``
+    package, so that VTK is silenced right after the package has run and before
+    any of its modules does work.
+    """
+    if _VTK in sys.modules:
+        quiet_vtk()
+        return
+    if not any(isinstance(finder, _QuietVTKFinder) for finder in sys.meta_path):
+        sys.meta_path.insert(0, _QuietVTKFinder())
+
+
+class _QuietVTKFinder:
+    """Finds nothing itself: wraps the loader of the ``vtkmodules`` package so that `quiet_vtk` runs after it."""
+
+    def find_spec(self, name, path=None, target=None):
+        if name != _VTK:
+            return None
+        from importlib.machinery import PathFinder
+
+        sys.meta_path.remove(self)
+        spec = PathFinder.find_spec(name, path, target)
+        if spec is not None and spec.loader is not None:
+            spec.loader = _QuietAfter(spec.loader)
+        return spec
+
+
+class _QuietAfter:
+    def __init__(self, loader):
+        self.loader = loader
+
+    def create_module(self, spec):
+        return self.loader.create_module(spec)
+
+    def exec_module(self, module):
+        self.loader.exec_module(module)
+        quiet_vtk()
 _EPILOG = ("Model files: a .py model is a Python program and runs as such, with your rights (load only "
            "files you trust); a .json model (a CSG tree) never runs code and is the safe format to "
            "exchange.")
@@ -140,11 +201,13 @@ def _run(args):
 def main(argv=None) -> int:
     """Run `implicad` with `argv` (default: ``sys.argv[1:]``); return the exit status."""
     install_warning_handler()
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    # only the chosen command's module; `--help` and errors list the rest by name
+    parser = build_parser(only=command_of(argv) or "")
     args = parser.parse_args(argv)
     debug = getattr(args, "debug", False)
     if not debug:
-        quiet_vtk()
+        quiet_vtk_when_loaded()
     try:
         status = _run(args)
     except KeyboardInterrupt:

@@ -19,12 +19,19 @@ Above `analysis`, `meshing`, `cells` and `files`; `spatial.mesh(...,
 client=...)` and `spatial.mass_properties(..., client=...)` forward here.
 """
 
-from .cluster import connect, local_cluster  # noqa: F401
-from .mass import mass_properties  # noqa: F401
-from .mesh import mesh  # noqa: F401
-from .parts import PartitionedMesh  # noqa: F401
-from .plan import DEFAULT_BRICK, plan_bricks  # noqa: F401
-from .vdb import level_set_vdb, save_level_set_vdb  # noqa: F401
+from ..files.lazy import lazy_exports
+from .mesh import mesh  # noqa: F401  (eager: the name of its module too, which an import would bind here)
+
+# The rest read on first use: `spatial.mesh` wraps its warnings with `warn` without loading the
+# analysis room, which `mass` needs.
+_LAZY = {
+    "connect": (".cluster", "connect"), "local_cluster": (".cluster", "local_cluster"),
+    "mass_properties": (".mass", "mass_properties"),
+    "PartitionedMesh": (".parts", "PartitionedMesh"), "DEFAULT_BRICK": (".plan", "DEFAULT_BRICK"),
+    "plan_bricks": (".plan", "plan_bricks"), "level_set_vdb": (".vdb", "level_set_vdb"),
+    "save_level_set_vdb": (".vdb", "save_level_set_vdb"),
+}
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
 __all__ = ["mesh", "mass_properties", "PartitionedMesh", "level_set_vdb", "save_level_set_vdb", "connect",
            "local_cluster", "plan_bricks", "DEFAULT_BRICK"]

@@ -41,7 +41,8 @@ def save_mesh(mesh, path) -> str:
 
     Parameters
     ----------
-    mesh : pyvista.PolyData
+    mesh : pyvista.PolyData or spatial.files.surface.TriangleArrays
+        (arrays are written as STL without loading VTK)
     path : str or os.PathLike
         ``.stl`` (binary), ``.ply``, ``.obj``, ``.vtp`` or ``.vtk``.
 
@@ -63,10 +64,16 @@ def save_mesh(mesh, path) -> str:
     >>> out = save_mesh(pv.Sphere(), os.path.join(tempfile.mkdtemp(), "ball.stl"))
     """
     ext = mesh_format(path)
-    import pyvista as pv
+    from .surface import TriangleArrays
 
-    if not isinstance(mesh, pv.PolyData):
-        raise TypeError(f"mesh: expected a pyvista.PolyData, got {type(mesh).__name__}")
+    if isinstance(mesh, TriangleArrays):
+        if ext != ".stl":
+            mesh = mesh.to_polydata()
+    else:
+        import pyvista as pv
+
+        if not isinstance(mesh, pv.PolyData):
+            raise TypeError(f"mesh: expected a pyvista.PolyData, got {type(mesh).__name__}")
     if mesh.n_cells == 0:
         raise ValueError("mesh: expected at least one triangle, got an empty mesh (nothing to write; "
                          "a feature thinner than the voxel size may have vanished)")
@@ -87,7 +94,7 @@ def _write_binary_stl(mesh, path, chunk=1 << 17):
     winding): the layout VTK's writer produces, several times faster than going through it.
     Written in chunks of triangles, so the temporaries stay small."""
     points = np.asarray(mesh.points, dtype=np.float64)
-    tri = np.asarray(mesh.faces).reshape(-1, 4)[:, 1:]
+    tri = mesh.triangles if hasattr(mesh, "triangles") else np.asarray(mesh.faces).reshape(-1, 4)[:, 1:]
     rec = np.zeros(min(chunk, tri.shape[0]), dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)),
                                                      ("attr", "<u2")])
     with open(path, "wb") as fh:

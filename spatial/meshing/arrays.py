@@ -28,10 +28,15 @@ EVAL_CHUNK = 1 << 18
 
 
 def empty_mesh(voxel_size=0.0, evaluations=0):
-    """An empty `pyvista.PolyData` with the usual field data."""
-    import pyvista as pv
+    """An empty `pyvista.PolyData` with the usual field data (arrays inside `spatial.files.surface.arrays_only`)."""
+    from ..files.surface import TriangleArrays, arrays_wanted
 
-    out = pv.PolyData()
+    if arrays_wanted():
+        out = TriangleArrays(np.zeros((0, 3)), np.zeros((0, 3), np.int64))
+    else:
+        import pyvista as pv
+
+        out = pv.PolyData()
     out.field_data["voxel_size"] = np.array([float(voxel_size)])
     out.field_data["evaluations"] = np.array([int(evaluations)], dtype=np.int64)
     return out

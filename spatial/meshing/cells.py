@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 
 from ..files.progress import progress_bar
+from ..files.surface import triangle_surface
 from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _settle_ties, _stable_order, empty_mesh
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharp_polydata
@@ -81,8 +82,6 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     cell holding the node), then the ends of crossing edges still without a
     value.  Both passes are rigorous: an inferred sign is the true one.
     """
-    import pyvista as pv
-
     t0 = time.perf_counter()
     h = float(voxel_size)
     c = int(cell_size)
@@ -223,7 +222,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     del nodes, t, axis
     if inner.size:
         _centre_inner(p0, faces, inner)
-    out = sharp_polydata(solid, p0, faces, origin, h) if features else pv.PolyData.from_regular_faces(p0, faces)
+    out = sharp_polydata(solid, p0, faces, origin, h) if features else triangle_surface(p0, faces)
     if edge_ids:
         out.point_data["edge_id"] = ids
     out.field_data["voxel_size"] = np.array([h])

@@ -473,10 +473,10 @@ def sharp_polydata(solid, points, faces, origin, h):
     both attach: ``feature_rank`` and ``feature_facets`` per point, the facet
     names and the count of feature cells.
     """
-    import pyvista as pv
+    from ..files.surface import triangle_surface  # PolyData, or arrays for a job that only writes them
 
     sharp = sharpen(solid, points, faces, origin, h)
-    out = pv.PolyData.from_regular_faces(sharp["points"], sharp["faces"])
+    out = triangle_surface(sharp["points"], sharp["faces"])
     out.point_data["feature_rank"] = sharp["feature_rank"]
     out.point_data["feature_facets"] = sharp["feature_facets"]
     out.field_data["facet_names"] = np.array(sharp["facet_names"] or [""])

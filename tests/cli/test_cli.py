@@ -52,3 +52,35 @@ def test_closed_pipe_ends_quietly(monkeypatch):
 
     monkeypatch.setattr(sys, "stdout", ClosedPipe())
     assert main(["families"]) == 0
+
+
+def test_the_help_table_is_each_commands_own_help():
+    import importlib
+
+    from spatial.cli import COMMANDS
+
+    for name, help_text in COMMANDS.items():
+        module = importlib.import_module(f"spatial.cli.{name}")
+        assert module.NAME == name and module.HELP == help_text, name
+
+
+def test_a_command_imports_its_own_module_only_and_vtk_is_still_quiet():
+    import json
+    import subprocess
+
+    code = ("import json, sys; from spatial.cli import main, _KEEP; status = main(['families']); "
+            "before = sorted(m for m in sys.modules if m.startswith('spatial.cli.') or m == 'vtkmodules'); "
+            "import pyvista; print(json.dumps(dict(status=status, before=before, kept=len(_KEEP))))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert out["status"] == 0
+    assert out["before"] == ["spatial.cli.common", "spatial.cli.families"]
+    assert out["kept"] == 1  # VTK, imported after the command started, was silenced when it loaded
+
+
+def test_options_before_the_command_still_find_it(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["--debug", "mesh", "--help"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out.startswith("usage: implicad mesh")

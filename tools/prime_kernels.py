@@ -1,0 +1,41 @@
+"""Compile the numba kernels of the everyday jobs into numba's on-disk cache (`make setup` runs it).
+
+Every kernel is ``@njit(cache=True)``: the first process that calls one compiles it (seconds)
+and stores it beside its source; later processes load it (milliseconds).  This runs the jobs
+a first `implicad mesh`, `mass` or `fea` run would, on a small part, so that the first real
+run after set-up compiles nothing.  Prints the seconds it took.
+
+    .venv/bin/python tools/prime_kernels.py
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+
+def main() -> int:
+    start = time.perf_counter()
+    from implicit.evaluate.kernels import numba_available, prime_cache
+
+    if not numba_available():
+        print("prime_kernels: numba is not importable; evaluation falls back to numpy")
+        return 0
+    prime_cache()
+    from implicit import box, cylinder, sphere
+
+    import spatial
+
+    part = (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
+        - cylinder(0.5, 4, axis=(0, 0, 1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for features in (False, True):
+            spatial.mesh(part, resolution=48, progress=False, features=features)
+        spatial.mass_properties(part, resolution=32)
+    print(f"prime_kernels: numba kernels compiled or loaded in {time.perf_counter() - start:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
