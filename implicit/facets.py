@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .facet_gradients import leaf_facets_with_gradients
+from .profile_facets import polygon_runs, run_fields
 from .solid import Solid
 
 __all__ = ["FacetField", "facet_field"]
@@ -21,8 +22,9 @@ __all__ = ["FacetField", "facet_field"]
 # CSG facets: which face of which primitive decides the field at a point
 # ---------------------------------------------------------------------------
 
-def _leaf_facets(node: Solid, p: np.ndarray):
-    """Names and values ``(k, n)`` of a leaf's facets; the leaf is the max of them."""
+def _leaf_facets(node: Solid, p: np.ndarray, split: bool = False):
+    """Names and values ``(k, n)`` of a leaf's facets (an extrusion's side split at its sharp
+    corners when `split`, see `split_side`); the leaf is the max of them."""
     kind = node.kind
     if kind == "box" and not getattr(node, "_rr", 0.0):
         q = p - node._c
@@ -35,10 +37,53 @@ def _leaf_facets(node: Solid, p: np.ndarray):
         dr = np.hypot(q[:, 0], q[:, 1]) - node._r
         return ["wall", "top", "bottom"], np.stack([dr, q[:, 2] - node._hh, -q[:, 2] - node._hh])
     if kind == "extrude":
+        if split and extrude_runs(node) is not None:
+            names, vals, _, _ = split_side(node, p)
+            return names, vals
         q = (p - node._c) @ node._rot
         d = node._profile._evaluate(np.ascontiguousarray(q[:, :2]))
         return ["side", "top", "bottom"], np.stack([d, q[:, 2] - node._hh, -q[:, 2] - node._hh])
     return [""], node._evaluate(p)[None, :]
+
+
+def split_side(node, p, gradients=False):
+    """Names, values ``(r + 2, n)``, gradients ``(r + 2, n, 3)`` (or None) and deciding facet ``(n,)``
+    of an extrusion whose side is split into `r` runs at its sharp corners (`extrude_runs`).
+
+    Every run is called ``side`` (the side stays one face to the user); the caps
+    decide where they exceed the profile's distance, elsewhere the run holding
+    the nearest profile edge (not a run whose continuation past its corner
+    runs nearer).
+    """
+    v, starts = extrude_runs(node)
+    q = (p - node._c) @ node._rot
+    f, g2, (near, d) = run_fields(v, starts, q[:, :2], nearest=True)
+    r = f.shape[0]
+    caps = np.stack([q[:, 2] - node._hh, -q[:, 2] - node._hh])
+    vals = np.concatenate([f, caps])
+    dec = np.where(d >= caps.max(axis=0), near, r + caps.argmax(axis=0))
+    grads = None
+    if gradients:
+        rot = node._rot
+        n = p.shape[0]
+        # q = (p - c) rot: a gradient in profile coordinates goes back through rot's columns
+        side = g2[:, :, :1] * rot[:, 0] + g2[:, :, 1:] * rot[:, 1]
+        axis = np.broadcast_to(rot[:, 2], (n, 3))
+        grads = np.concatenate([side, np.stack([axis, -axis])])
+    return ["side"] * r + ["top", "bottom"], vals, grads, dec
+
+
+def extrude_runs(node):
+    """The runs of an extrusion's polygon side (`implicit.profile_facets.polygon_runs`), or None
+    when its side is one facet (a profile other than a polygon or rectangle, or without two sharp corners)."""
+    prof = node._profile
+    if prof.kind == "polygon":
+        return polygon_runs(prof._v)
+    if prof.kind == "rectangle":
+        c = np.asarray(prof.params["center"], dtype=np.float64)
+        h = 0.5 * np.asarray(prof.params["size"], dtype=np.float64)
+        return polygon_runs(c + h * np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]))
+    return None
 
 
 class FacetField:
@@ -50,9 +95,16 @@ class FacetField:
     zero sets are the surfaces the CSG boundary is cut from.  Smooth blends
     and shells count as one leaf.
 
+    With ``split_sides=True`` the side of an extruded polygon is cut at its
+    sharp corners into facets all called ``side`` (`split_side`): the tips of
+    a gear's teeth are then edges where two facets meet, as the corners of a
+    box are, and a corner of a tooth is the common zero of three facets.
+
     Parameters
     ----------
     solid : Solid
+    split_sides : bool
+        Split extruded polygons' sides at their sharp corners.
 
     Attributes
     ----------
@@ -61,10 +113,11 @@ class FacetField:
         depth-first order, facet).
     """
 
-    def __init__(self, solid: Solid):
+    def __init__(self, solid: Solid, *, split_sides: bool = False):
         if not isinstance(solid, Solid):
             raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
         self.solid = solid
+        self.split_sides = bool(split_sides)
         self.names: list[str] = []
         pts = np.zeros((1, 3))
         self._walk(solid, pts, [], self.names, [0])
@@ -96,7 +149,11 @@ class FacetField:
             for i in range(start, len(vals)):
                 vals[i] = vals[i] - dist
             return v - dist, d
-        sub, fv = _leaf_facets(node, p)
+        if self._split(node):
+            sub, fv, _, dec = split_side(node, p)
+        else:
+            sub, fv = _leaf_facets(node, p)
+            dec = fv.argmax(axis=0) if len(sub) > 1 else np.zeros(p.shape[0], dtype=np.intp)
         start = len(vals)
         leaf = counter[0]
         counter[0] += 1
@@ -104,8 +161,7 @@ class FacetField:
             vals.append(fv[j])
             names.append(f"{kind}_{leaf}" + (f".{s}" if s else ""))
         value = node._evaluate(p)
-        dec = start + (fv.argmax(axis=0) if len(sub) > 1 else np.zeros(p.shape[0], dtype=np.intp))
-        return np.asarray(value, dtype=np.float64), dec
+        return np.asarray(value, dtype=np.float64), start + dec
 
     def __call__(self, points):
         """Field, deciding facet and every facet's value at `points`.
@@ -183,7 +239,7 @@ class FacetField:
             for i in range(start, len(vals)):
                 vals[i] = vals[i] - node.params["distance"]
         else:
-            vals.extend(_leaf_facets(node, p)[1])
+            vals.extend(_leaf_facets(node, p, self.split_sides)[1])
 
     def facet_gradients(self, points, step=1e-7):
         """Gradients of every facet field by central differences, shape ``(k, n, 3)``.
@@ -251,10 +307,18 @@ class FacetField:
             lo, hi = np.searchsorted(fac, [start, start + k])
             if hi > lo:
                 sel = slice(lo, hi)
-                _, _, fg = leaf_facets_with_gradients(node, np.ascontiguousarray(p[rows[sel]]), step, _leaf_facets)
+                at = np.ascontiguousarray(p[rows[sel]])
+                if self._split(node):
+                    fg = split_side(node, at, gradients=True)[2]
+                else:
+                    _, _, fg = leaf_facets_with_gradients(node, at, step, _leaf_facets)
                 g[sel] = fg[fac[sel] - start, np.arange(hi - lo)]
             counter[0] += k
         return start, counter[0]
+
+    def _split(self, node):
+        """Whether `node` is an extrusion whose side this field splits at its sharp corners."""
+        return self.split_sides and node.kind == "extrude" and extrude_runs(node) is not None
 
     def _n_facets(self, node):
         """Number of facets under `node` (cached per node id)."""
@@ -264,7 +328,7 @@ class FacetField:
             if node.kind in ("union", "intersection", "difference", "complement", "family", "offset", "affine"):
                 cache[key] = sum(self._n_facets(c) for c in node.children)
             else:
-                cache[key] = len(_leaf_facets(node, np.zeros((1, 3)))[0])
+                cache[key] = len(_leaf_facets(node, np.zeros((1, 3)), self.split_sides)[0])
         return cache[key]
 
     def facets_with_gradients(self, points, step=1e-7, decide=False):
@@ -319,7 +383,11 @@ class FacetField:
             for i in range(start, len(vals)):
                 vals[i] = vals[i] - dist
             return (r[0] - dist, r[1]) if decide else None
-        sub, fv, fg = leaf_facets_with_gradients(node, p, step, _leaf_facets)
+        if self._split(node):
+            sub, fv, fg, dec = split_side(node, p, gradients=True)
+        else:
+            sub, fv, fg = leaf_facets_with_gradients(node, p, step, _leaf_facets)
+            dec = fv.argmax(axis=0) if len(sub) > 1 else np.zeros(p.shape[0], dtype=np.intp)
         start = len(vals)
         counter[0] += 1
         vals.extend(fv)
@@ -327,7 +395,7 @@ class FacetField:
         if not decide:
             return None
         value = fv[0] if len(sub) == 1 else np.asarray(node._evaluate(p), dtype=np.float64)
-        dec = start + (fv.argmax(axis=0) if len(sub) > 1 else np.zeros(p.shape[0], dtype=np.intp))
+        dec = start + dec
         return np.asarray(value, dtype=np.float64), dec
 
 

@@ -42,8 +42,8 @@ class FacetField(_TreeFacets):
     ['hole_1.wall', 'hole_1.top', 'hole_1.bottom']
     """
 
-    def __init__(self, solid: Solid):
-        super().__init__(solid)
+    def __init__(self, solid: Solid, *, split_sides: bool = False):
+        super().__init__(solid, split_sides=split_sides)
         self.names = _labelled_names(self, solid, self.names)
 
 
