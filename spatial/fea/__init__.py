@@ -11,6 +11,8 @@
   `nastran`): Gmsh 4.1 / 2.2, Abaqus / CalculiX, VTU, Nastran, MED, STL / PLY;
 * `narrowest_gap`, `check_resolvable` (`resolve`): sizes that cannot follow a
   part's narrowest gap, refused before meshing;
+* `surface_size`, `narrow_widths` (`size_field`): gaps and walls measured by
+  rays on the solid's field, and the surface size that follows them;
 * `write_static_deck`, `Material`, `MATERIALS`, `parse_material`,
   `parse_load` (`deck`): ready-to-run linear-static CalculiX / Abaqus decks;
 * `run_calculix`, `StaticResult` (`solve`) and `read_frd` (`frd`): CalculiX
@@ -35,6 +37,7 @@ from .deck import MATERIALS, Material, face_nodal_loads, parse_load, parse_mater
 from .frd import read_frd, von_mises
 from .solve import StaticResult, calculix_path, run_calculix
 from .resolve import check_resolvable, narrowest_gap
+from .size_field import narrow_widths, surface_size
 from .jacobian_bounds import jacobian_sign
 
 __all__ = [
@@ -43,5 +46,5 @@ __all__ = [
     "radius_edge_ratio", "scaled_jacobian", "MeshQualityWarning", "TetMesh", "tet_mesh",
     "FEA_FORMATS", "set_names", "write_fea", "to_meshio", "MATERIALS", "Material", "face_nodal_loads", "parse_load", "static_deck_text",
     "parse_material", "write_static_deck", "read_frd", "von_mises", "StaticResult", "calculix_path",
-    "run_calculix", "check_resolvable", "narrowest_gap", "jacobian_sign",
+    "run_calculix", "check_resolvable", "narrowest_gap", "jacobian_sign", "narrow_widths", "surface_size",
 ]
