@@ -29,6 +29,7 @@ from .facets import FacetField
 from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
                       surface_for_fea)
 from .curved import add_midnodes, project_midnodes
+from .size_field import curvature_size
 from .resolve import check_resolvable
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
 from .quality import radius_edge_ratio, tet_quality, tet_volumes
@@ -202,7 +203,8 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
 
     info = {}
     if surface is None:
-        surface, info["surface_size"] = _surface_for(solid, size)
+        # 10-node elements: edges short enough for their mid nodes to go onto curved faces
+        surface, info["surface_size"] = _surface_for(solid, size if order == 1 else curvature_size(solid, size))
         sfaces = mesh_faces(surface)
     else:
         # TetGen aborts the whole process on such input: check it first.

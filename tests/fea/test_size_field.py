@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from implicit import box
-from spatial.fea.size_field import GAP_FRACTION, SMALLEST_FRACTION, narrow_widths, surface_size
+from spatial.fea.size_field import GAP_FRACTION, SMALLEST_FRACTION, curvature_size, narrow_widths, surface_size
 
 GEAR = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "gear.py")
 
@@ -36,3 +36,23 @@ def test_the_gear_surface_follows_its_tooth_tips():
 def test_a_cube_coarser_than_itself_and_a_thin_plate():
     assert surface_size(box(4.0), 2.0) == 2.0 and surface_size(box(4.0), 8.0) == pytest.approx(4.0 * GAP_FRACTION, rel=1e-3)
     assert surface_size(box((0.2, 4, 4)), 2.0, voxel=0.05) == SMALLEST_FRACTION * 2.0
+
+
+def test_order_2_mid_nodes_at_the_rims_of_holes_as_wide_as_the_size_lie_on_the_surface():
+    """Holes of radius 3 at size 3: the surface's edges are halved for 10-node elements, and every
+    boundary mid node then lies on the true surface (13 of 1054 stayed on their chords at edges of 3)."""
+    import warnings
+
+    from implicit.families import instance
+    from spatial.fea import jacobian_sign, tet_mesh
+
+    part = instance("hole_plate", length=40, width=20, thickness=4, hole_diameter=6, rows=1, cols=2, margin=10)
+    assert curvature_size(part, 3.0) == 1.5
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m = tet_mesh(part, size=3.0, order=2)
+    nodes = m.node_sets["surface"]
+    assert m.info["surface_size"] == 1.5 and m.info["off_surface_nodes"] == 0
+    assert np.abs(part(m.points[nodes])).max() < 1e-6 * 3.0
+    assert np.all(jacobian_sign(m.points, m.tets) == 1)
+    assert m.quality.min_dihedral >= 10.0
