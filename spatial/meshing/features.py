@@ -68,7 +68,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .feature_kernels import _assemble, _at_node, _border_nodes, _candidate_cells, _cell_index, _facing_kernel
+from .feature_kernels import (_assemble, _at_node, _border_nodes, _candidate_cells, _cell_borders, _cell_labels,
+                              _facing_kernel, _group_cells, _qef)
 
 __all__ = ["sharpen", "sharp_polydata", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
@@ -163,20 +164,10 @@ def sharpen(solid, points, faces, origin, h):
     if not marked.any():
         return plain
     cand = np.unique(key[marked])
-    at = _cell_index(key, cand)
-    tri = np.flatnonzero(at >= 0)
-    tri = tri[np.argsort(at[tri], kind="stable")]
-    tcell = at[tri]                                  # candidate-cell index of each chosen triangle
+    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(key, cand, f, n)
     n_cells = cand.shape[0]
 
     # -- 2. exact normals at the vertices of the candidate cells ------------------------------
-    pair = np.unique(tcell[:, None] * np.int64(n) + f[tri])  # (cell, vertex), sorted by cell
-    pcell, pvert = pair // n, pair % n
-    # the distinct vertices, in order, and each pair's index among them (np.unique without the sort)
-    seen = np.zeros(n, bool)
-    seen[pvert] = True
-    verts = np.flatnonzero(seen)
-    pinv = (np.cumsum(seen) - 1)[pvert]
     # the exact normal of the face deciding the field (closed forms; forward steps of 1e-6 h where none)
     decider = ff.decide(pts[verts])[1]
     normal = _unit(ff.gradients_of(pts[verts], decider, 1e-6 * h))
@@ -187,41 +178,20 @@ def sharpen(solid, points, faces, origin, h):
     vface[verts] = decider
 
     # -- 3. QEF per cell ---------------------------------------------------------------------
-    starts = _runs(pcell)
-    count = np.diff(np.r_[starts, pcell.shape[0]])
-    p, nn = pts[pvert], normal[pinv]
-    mass = np.add.reduceat(p, starts, axis=0) / count[:, None]
-    ata = np.add.reduceat(nn[:, :, None] * nn[:, None, :], starts, axis=0)
-    dist = np.einsum("ij,ij->i", nn, p - mass[pcell])
-    atb = np.add.reduceat(nn * dist[:, None], starts, axis=0)
-    w, u = np.linalg.eigh(ata)
-    keep = w > EIGEN_CUTOFF * w[:, -1:]
-    rank = keep.sum(axis=1)
-    inv = np.where(keep, 1.0 / np.where(keep, w, 1.0), 0.0)
-    x = mass + np.einsum("nij,nj->ni", u, inv * np.einsum("nji,nj->ni", u, atb))
+    _, x, rank = _qef(pts, pvert, normal, pinv, starts, EIGEN_CUTOFF)
     cell_lo = origin + (np.stack([cand // (s * s), (cand // s) % s, cand % s], axis=1) + lo) * h
     # faces in each cell, most frequent first: the labels, and the surfaces to solve on
-    fkey = pcell * np.int64(len(ff.names) + 1) + vface[pvert]
-    fk, fcount = np.unique(fkey, return_counts=True)
-    fcell, fface = fk // (len(ff.names) + 1), fk % (len(ff.names) + 1)
-    order = np.lexsort((fface, -fcount, fcell))
-    fcell, fface = fcell[order], fface[order]
-    fstart = _runs(fcell)
-    n_faces = np.zeros(n_cells, np.int64)
-    n_faces[fcell[fstart]] = np.diff(np.r_[fstart, fcell.shape[0]])
-    slot = np.arange(fcell.shape[0]) - np.repeat(fstart, np.diff(np.r_[fstart, fcell.shape[0]]))
-    labels = np.full((n_cells, 3), -1, np.int64)
-    top = slot < 3
-    labels[fcell[top], slot[top]] = fface[top]
+    labels, n_faces = _cell_labels(pvert, vface, starts)
     feature = rank >= 2
     x = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
     margin = CELL_MARGIN * h
     x = np.clip(x, cell_lo + margin, cell_lo + h - margin)
 
     # -- 4./5. fans and flips, with the cells that fail handed back --------------------------
-    t_verts = f[tri]
+    b0, b1, bc, disc = _cell_borders(f[tri], tcell, feature, n)
+    feature &= disc           # cells whose patch is not one disc are left alone
     for _ in range(ROUNDS):
-        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x)
+        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x)
         bad = _facing_badly(newp, new_faces, exact, n)
         if not bad.any():
             break
@@ -386,40 +356,20 @@ def _newton(ff, q, idx, used, h, steps):
     return q, jac
 
 
-def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x):
-    """Fans of the feature cells whose patch is one disc, and the flips between them.
+def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
+    """Fans of the feature cells (whose patch is one disc: `_cell_borders`), and the flips between them.
 
     Returns the new triangles, for each the cells it came from (two for a
     flipped pair, the second -1 otherwise) as ``owner`` (k, 2), and the cells
     that received a vertex (vertex ``n + i`` is cell ``fan_cells[i]``) and
-    the points with those vertices appended; ``feature`` is updated in place
-    (cells that are not one disc dropped).  A flip is made only where both
+    the points with those vertices appended.  A flip is made only where both
     of its triangles face their ordinary vertices' normals.
     """
-    sel = feature[tcell]
-    tv, tc = t_verts[sel], tcell[sel]
-    if tv.shape[0] == 0:
+    b0, b1, bc = borders
+    keep = feature[bc]
+    if not keep.any():
         return np.empty((0, 3), np.int64), np.empty((0, 2), np.int64), np.empty(0, np.int64), pts
-    # directed edges of the cells' triangles; an undirected edge met once in its cell is on the cell's border
-    e0 = tv.reshape(-1)
-    e1 = tv[:, [1, 2, 0]].reshape(-1)
-    ec = np.repeat(tc, 3)
-    und = np.minimum(e0, e1) * np.int64(n) + np.maximum(e0, e1)
-    order = np.lexsort((und, ec))
-    e0, e1, ec, und = e0[order], e1[order], ec[order], und[order]
-    st = np.flatnonzero(np.r_[True, (und[1:] != und[:-1]) | (ec[1:] != ec[:-1])])
-    runs = np.diff(np.r_[st, und.shape[0]])
-    border = st[runs == 1]
-    # one disc: V - E + F == 1, and as many border vertices as border edges (one simple loop)
-    n_e = np.bincount(ec[st], minlength=n_cells)
-    n_f = np.bincount(tc, minlength=n_cells)
-    n_v = _vertex_counts(tc, tv, n, n_cells)
-    n_b = np.bincount(ec[border], minlength=n_cells)
-    n_bv = np.bincount(np.unique(ec[border] * np.int64(n) + e0[border]) // n, minlength=n_cells)
-    disc = (n_v - n_e + n_f == 1) & (n_b == n_bv) & (n_b >= 3)
-    feature &= disc
-    keep = feature[ec[border]]
-    b0, b1, bc = e0[border][keep], e1[border][keep], ec[border][keep]
+    b0, b1, bc = b0[keep], b1[keep], bc[keep]
     fan_cells = np.flatnonzero(feature)
     vid = np.full(n_cells, -1, np.int64)
     vid[fan_cells] = n + np.arange(fan_cells.shape[0])
@@ -449,11 +399,6 @@ def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x):
     owner[i] = both
     owner[j] = both
     return fan, owner, fan_cells, newp
-
-
-def _vertex_counts(tc, tv, n, n_cells):
-    """Distinct vertices of each cell's triangles."""
-    return np.bincount(np.unique(np.repeat(tc, 3) * np.int64(n) + tv.reshape(-1)) // n, minlength=n_cells)
 
 
 def _facing_badly(points, faces, exact, n):
