@@ -31,32 +31,52 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
     """Lattice cell of every triangle and whether it departs from a vertex normal (one pass each)."""
     m = faces.shape[0]
     n = pts.shape[0]
+    # cell keys ``(i * s + j) * s + k`` from a corner below every vertex: the order of the keys is the
+    # cells' lexicographic order whatever the corner and the stride, as long as they cover the mesh
+    lo = np.empty(3, np.int64)
+    s = np.int64(1)
+    for j in range(3):
+        a, b = np.inf, -np.inf
+        for v in range(n):
+            q = pts[v, j]
+            if q < a:
+                a = q
+            if q > b:
+                b = q
+        lo[j] = np.int64(np.floor((a - origin[j]) / h)) - 1
+        span = np.int64(np.floor((b - origin[j]) / h)) - lo[j] + 2
+        if span > s:
+            s = span
     vn = np.zeros((n, 3))
     tn = np.empty((m, 3))
+    key = np.empty(m, np.int64)
+    third = 1.0 / 3.0
     for t in range(m):
         a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
         ux = pts[b, 0] - pts[a, 0]; uy = pts[b, 1] - pts[a, 1]; uz = pts[b, 2] - pts[a, 2]
         vx = pts[c, 0] - pts[a, 0]; vy = pts[c, 1] - pts[a, 1]; vz = pts[c, 2] - pts[a, 2]
         cx = uy * vz - uz * vy; cy = uz * vx - ux * vz; cz = ux * vy - uy * vx
         tn[t, 0] = cx; tn[t, 1] = cy; tn[t, 2] = cz
-        for k in range(3):
-            v = faces[t, k]
-            vn[v, 0] += cx; vn[v, 1] += cy; vn[v, 2] += cz
+        vn[a, 0] += cx; vn[a, 1] += cy; vn[a, 2] += cz
+        vn[b, 0] += cx; vn[b, 1] += cy; vn[b, 2] += cz
+        vn[c, 0] += cx; vn[c, 1] += cy; vn[c, 2] += cz
+        k = np.int64(0)
+        for j in range(3):
+            q = (pts[a, j] + pts[b, j] + pts[c, j]) * third
+            k = k * s + np.int64(np.floor((q - origin[j]) / h)) - lo[j]
+        key[t] = k
     for v in range(n):
-        s = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
-        if s > 0:
-            vn[v, 0] /= s; vn[v, 1] /= s; vn[v, 2] /= s
+        r = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
+        if r > 0:
+            vn[v, 0] /= r; vn[v, 1] /= r; vn[v, 2] /= r
     marked = np.zeros(m, np.bool_)
-    ijk = np.empty((m, 3), np.int64)
-    lo = np.full(3, np.iinfo(np.int64).max, np.int64)
-    third = 1.0 / 3.0
     for t in range(m):
-        s = np.sqrt(tn[t, 0] ** 2 + tn[t, 1] ** 2 + tn[t, 2] ** 2)
-        if s > 0:
+        r = np.sqrt(tn[t, 0] ** 2 + tn[t, 1] ** 2 + tn[t, 2] ** 2)
+        if r > 0:
             worst = 1.0
             for k in range(3):
                 v = faces[t, k]
-                d = (tn[t, 0] * vn[v, 0] + tn[t, 1] * vn[v, 1] + tn[t, 2] * vn[v, 2]) / s
+                d = (tn[t, 0] * vn[v, 0] + tn[t, 1] * vn[v, 1] + tn[t, 2] * vn[v, 2]) / r
                 if d < worst:
                     worst = d
             n_node = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
@@ -64,40 +84,7 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
             # crossings on lattice edges lying in the face's plane are undefined there, and the chamfer
             # they leave may bend less than the normals' test sees
             marked[t] = worst < cos_limit or (n_node > 0 and n_node < 3)
-        for j in range(3):
-            q = (pts[faces[t, 0], j] + pts[faces[t, 1], j] + pts[faces[t, 2], j]) * third
-            ijk[t, j] = np.int64(np.floor((q - origin[j]) / h))
-            if ijk[t, j] < lo[j]:
-                lo[j] = ijk[t, j]
-    # one key per cell, ``(i * s + j) * s + k`` from the lowest cell
-    s = np.int64(1)
-    for t in range(m):
-        for j in range(3):
-            if ijk[t, j] - lo[j] + 1 > s:
-                s = ijk[t, j] - lo[j] + 1
-    key = np.empty(m, np.int64)
-    for t in range(m):
-        key[t] = ((ijk[t, 0] - lo[0]) * s + ijk[t, 1] - lo[1]) * s + ijk[t, 2] - lo[2]
     return marked, key, lo, s, vn
-
-
-@numba.njit(cache=True, nogil=True)
-def _cell_index(key, cells):
-    """Index of each key in the sorted `cells`, -1 where it is not there (binary search)."""
-    out = np.full(key.shape[0], -1, np.int64)
-    n = cells.shape[0]
-    for t in range(key.shape[0]):
-        k = key[t]
-        a, b = 0, n
-        while a < b:
-            c = (a + b) >> 1
-            if cells[c] < k:
-                a = c + 1
-            else:
-                b = c
-        if a < n and cells[a] == k:
-            out[t] = a
-    return out
 
 
 @numba.njit(cache=True, nogil=True)
@@ -502,3 +489,52 @@ def _cell_borders(t_verts, tcell, feature, n):
                     bc[j] = c
         t = u
     return b0[:r].copy(), b1[:r].copy(), bc[:r].copy(), disc
+
+
+@numba.njit(cache=True, nogil=True)
+def _newton_step(q, jac, val, used):
+    """One Gauss-Newton step per row, in place: ``q -= J^T (J J^T)^-1 f`` over the `used` facets.
+
+    ``J J^T`` (identity on the unused rows) is factored with partial
+    pivoting; rows whose determinant is under 1e-12 do not move.
+    """
+    k = jac.shape[1]
+    a = np.empty((k, k))
+    y = np.empty(k)
+    for r in range(q.shape[0]):
+        for i in range(k):
+            for j in range(k):
+                if used[r, i] and used[r, j]:
+                    a[i, j] = jac[r, i, 0] * jac[r, j, 0] + jac[r, i, 1] * jac[r, j, 1] + jac[r, i, 2] * jac[r, j, 2]
+                else:
+                    a[i, j] = 1.0 if i == j else 0.0
+            y[i] = val[r, i]
+        det = 1.0
+        for c in range(k):
+            p = c
+            for i in range(c + 1, k):
+                if abs(a[i, c]) > abs(a[p, c]):
+                    p = i
+            if p != c:
+                det = -det
+                for j in range(k):
+                    a[c, j], a[p, j] = a[p, j], a[c, j]
+                y[c], y[p] = y[p], y[c]
+            det *= a[c, c]
+            if a[c, c] == 0.0:
+                break
+            for i in range(c + 1, k):
+                f = a[i, c] / a[c, c]
+                for j in range(c, k):
+                    a[i, j] -= f * a[c, j]
+                y[i] -= f * y[c]
+        if not abs(det) > 1e-12:
+            continue
+        for i in range(k - 1, -1, -1):
+            for j in range(i + 1, k):
+                y[i] -= a[i, j] * y[j]
+            y[i] /= a[i, i]
+        for i in range(k):
+            if used[r, i]:
+                for j in range(3):
+                    q[r, j] -= jac[r, i, j] * y[i]

@@ -69,7 +69,7 @@ from __future__ import annotations
 import numpy as np
 
 from .feature_kernels import (_assemble, _at_node, _border_nodes, _candidate_cells, _cell_borders, _cell_labels,
-                              _facing_kernel, _group_cells, _qef)
+                              _facing_kernel, _group_cells, _newton_step, _qef)
 
 __all__ = ["sharpen", "sharp_polydata", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
@@ -348,11 +348,7 @@ def _newton(ff, q, idx, used, h, steps):
         fv = ff.facet_values(q)
         val = np.stack([fv[idx[:, j], r] for j in range(k)], axis=1) * used
         jac = ff.gradients_of(q, idx, 1e-6 * h) * used[:, :, None]
-        jj = jac @ np.swapaxes(jac, 1, 2) + np.where(used, 0.0, 1.0)[:, :, None] * np.eye(k)
-        ok = np.abs(np.linalg.det(jj)) > 1e-12
-        y = np.zeros((q.shape[0], k))
-        y[ok] = np.linalg.solve(jj[ok], val[ok][:, :, None])[:, :, 0]
-        q -= np.einsum("nji,nj->ni", jac, y)
+        _newton_step(q, jac, val, used)
     return q, jac
 
 
