@@ -68,6 +68,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .feature_collapse import collapse_fans
 from .feature_kernels import (_assemble, _at_node, _border_nodes, _candidate_cells, _cell_borders, _cell_labels,
                               _facing_kernel, _group_cells, _newton_step, _qef)
 
@@ -202,6 +203,9 @@ def sharpen(solid, points, faces, origin, h):
     drop = np.zeros(f.shape[0], np.bool_)
     drop[tri[feature[tcell]]] = True
     out_faces, used = _assemble(f, drop, new_faces, newp.shape[0])
+    out_faces, _ = collapse_fans(newp, out_faces, n)
+    used = np.zeros(newp.shape[0], bool)
+    used[out_faces.reshape(-1)] = True
     frank = np.zeros(newp.shape[0], np.int8)
     frank[n:] = np.minimum(rank[fan_cells], 3)
     ffacets = np.full((newp.shape[0], 3), -1, np.int32)
