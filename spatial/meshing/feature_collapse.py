@@ -29,7 +29,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["collapse_fans"]
+__all__ = ["collapse_fans", "finish"]
 
 #: A triangle moved by a collapse must keep ``cos > COS_MOVE`` between its new and old normals.
 COS_MOVE = 0.5
@@ -42,7 +42,7 @@ def collapse_fans(points, faces, n, cos_move=COS_MOVE):
     ----------
     points : (p, 3) float
         Vertices; those from `n` on are feature vertices.
-    faces : (m, 3) int64
+    faces : (m, 3) int
         Closed oriented triangles over `points`.
     n : int
         Number of ordinary vertices.
@@ -51,26 +51,60 @@ def collapse_fans(points, faces, n, cos_move=COS_MOVE):
     Returns
     -------
     faces : (m - 2 c, 3) int64
-        The triangles after ``c`` collapses (the collapsed vertices no longer used).
+        The triangles after ``c`` collapses, those without a feature vertex
+        first (the collapsed vertices no longer used; not renumbered).
     collapsed : int
         ``c``.
 
     Examples
     --------
     >>> import numpy as np
-    >>> pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.1, 0.1, 0.1]], float)
-    >>> tet = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-    >>> # vertex 4 inside face (1, 2, 3) as a fan, then collapsed into it again
+    >>> pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.3, 0.3, 0.4]], float)
+    >>> # a tetrahedron whose face (1, 2, 3) is a fan around vertex 4, collapsed into a triangle again
     >>> fan = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 4], [2, 3, 4], [3, 1, 4]])
-    >>> pts[4] = [0.3, 0.3, 0.4]
     >>> out, c = collapse_fans(pts, fan, 4)
     >>> c, out.shape
     (1, (4, 3))
     """
-    faces = np.ascontiguousarray(faces, dtype=np.int64)
-    if faces.shape[0] == 0 or points.shape[0] <= n:
-        return faces, 0
-    return _collapse(np.ascontiguousarray(points, dtype=np.float64), faces, np.int64(n), float(cos_move))
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    new = (faces >= n).any(axis=1)
+    out, _, c = finish(points, faces[~new], np.zeros(int((~new).sum()), np.bool_), faces[new], n,
+                       cos_move, renumber=False)
+    return out, c
+
+
+def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True):
+    """The feature mesh's triangles: `faces` not in `drop`, then `new_faces`, with the fans collapsed.
+
+    Parameters
+    ----------
+    points : (p, 3) float
+        Vertices; those from `n` on are the feature vertices of `new_faces`.
+    faces : (m, 3) int
+        Marching cubes' triangles (over the first `n` points).
+    drop : (m,) bool
+        The triangles the fans replace.
+    new_faces : (k, 3) int
+        The fans (and their flips).
+    n : int
+    cos_move : float
+    renumber : bool
+        Renumber the vertices to those used (in order).
+
+    Returns
+    -------
+    faces : (m', 3) int64
+    used : (p,) bool
+        The points the triangles use (the vertices taken by a collapse, and
+        marching cubes' inner vertices of the fanned cells, are not).
+    collapsed : int
+    """
+    f = np.ascontiguousarray(faces)
+    if f.dtype not in (np.int32, np.int64):
+        f = f.astype(np.int64)
+    new = np.ascontiguousarray(new_faces, dtype=np.int64).reshape(-1, 3)
+    return _finish(np.ascontiguousarray(points, dtype=np.float64), f, np.ascontiguousarray(drop, dtype=np.bool_),
+                   new, np.int64(n), float(cos_move), bool(renumber))
 
 
 @numba.njit(cache=True, nogil=True)
@@ -82,15 +116,77 @@ def _normal(p, a, b, c, ax, ay, az):
 
 
 @numba.njit(cache=True, nogil=True)
-def _collapse(p, faces, n, cos_move):
+def _finish(p, f, drop, new, n, cos_move, renumber):
+    m = f.shape[0]
+    n_p = p.shape[0]
+    # the vertices near the fans (those of the new triangles) and every triangle around them, local
+    near = np.zeros(n_p, np.bool_)
+    for t in range(new.shape[0]):
+        for j in range(3):
+            near[new[t, j]] = True
+    used = np.zeros(n_p, np.bool_)
+    n_near = 0
+    n_kept = 0
+    for t in range(m):
+        if not drop[t]:
+            a, b, c = f[t, 0], f[t, 1], f[t, 2]
+            used[a] = True; used[b] = True; used[c] = True
+            n_near += near[a] or near[b] or near[c]
+            n_kept += 1
+    k = n_near + new.shape[0]
+    faces = np.empty((k, 3), np.int64)
+    source = np.empty(n_near, np.int64)
+    r = 0
+    for t in range(m):
+        if not drop[t] and (near[f[t, 0]] or near[f[t, 1]] or near[f[t, 2]]):
+            for j in range(3):
+                faces[r, j] = f[t, j]
+            source[r] = t
+            r += 1
+    for t in range(new.shape[0]):
+        for j in range(3):
+            faces[r, j] = new[t, j]
+            used[new[t, j]] = True
+        r += 1
+    into, dropped, c = _collapse(p, faces, n, near, cos_move)
+    for v in range(n_p):
+        if into[v] != v:
+            used[v] = False
+    index = np.arange(n_p)
+    if renumber:
+        q = 0
+        for v in range(n_p):
+            index[v] = q
+            q += used[v]
+    out = np.empty((n_kept + new.shape[0] - 2 * c, 3), np.int64)
+    r = 0
+    s = 0     # next local triangle that came from `f`
+    for t in range(m):
+        if drop[t]:
+            continue
+        if s < n_near and source[s] == t:
+            if not dropped[s]:
+                for j in range(3):
+                    out[r, j] = index[into[faces[s, j]]]
+                r += 1
+            s += 1
+        else:
+            for j in range(3):
+                out[r, j] = index[f[t, j]]
+            r += 1
+    for s in range(n_near, k):
+        if not dropped[s]:
+            for j in range(3):
+                out[r, j] = index[into[faces[s, j]]]
+            r += 1
+    return out, used, c
+
+
+@numba.njit(cache=True, nogil=True)
+def _collapse(p, faces, n, near, cos_move):
+    """Collapses on the local triangles `faces`: the vertex each point went into, the triangles dropped."""
     m = faces.shape[0]
     n_p = p.shape[0]
-    # the vertices that matter: feature vertices and their neighbours; their triangles, as CSR
-    near = np.zeros(n_p, np.bool_)
-    for t in range(m):
-        if faces[t, 0] >= n or faces[t, 1] >= n or faces[t, 2] >= n:
-            for j in range(3):
-                near[faces[t, j]] = True
     start = np.zeros(n_p + 1, np.int64)
     for t in range(m):
         for j in range(3):
@@ -151,14 +247,7 @@ def _collapse(p, faces, n, cos_move):
                 into[v] = fv
                 c += 1
                 break
-    out = np.empty((m - 2 * c, 3), np.int64)
-    r = 0
-    for t in range(m):
-        if not dropped[t]:
-            for j in range(3):
-                out[r, j] = into[faces[t, j]]
-            r += 1
-    return out, c
+    return into, dropped, c
 
 
 @numba.njit(cache=True, nogil=True)

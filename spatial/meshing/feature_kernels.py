@@ -102,29 +102,6 @@ def _border_nodes(faces, at_node, axis):
 
 
 @numba.njit(cache=True, nogil=True)
-def _assemble(f, drop, new_faces, n_points):
-    """The triangles not dropped followed by the new ones, and which of the points they use."""
-    kept = 0
-    for t in range(f.shape[0]):
-        kept += not drop[t]
-    out = np.empty((kept + new_faces.shape[0], 3), np.int64)
-    used = np.zeros(n_points, np.bool_)
-    r = 0
-    for t in range(f.shape[0]):
-        if not drop[t]:
-            for j in range(3):
-                out[r, j] = f[t, j]
-                used[f[t, j]] = True
-            r += 1
-    for t in range(new_faces.shape[0]):
-        for j in range(3):
-            out[r, j] = new_faces[t, j]
-            used[new_faces[t, j]] = True
-        r += 1
-    return out, used
-
-
-@numba.njit(cache=True, nogil=True)
 def _facing_kernel(points, faces, exact, n, min_facing):
     m = faces.shape[0]
     bad = np.zeros(m, np.bool_)

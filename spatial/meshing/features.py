@@ -68,8 +68,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .feature_collapse import collapse_fans
-from .feature_kernels import (_assemble, _at_node, _border_nodes, _candidate_cells, _cell_borders, _cell_labels,
+from .feature_collapse import finish
+from .feature_kernels import (_at_node, _border_nodes, _candidate_cells, _cell_borders, _cell_labels,
                               _facing_kernel, _group_cells, _newton_step, _qef)
 
 __all__ = ["sharpen", "sharp_polydata", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
@@ -202,21 +202,17 @@ def sharpen(solid, points, faces, origin, h):
         return plain
     drop = np.zeros(f.shape[0], np.bool_)
     drop[tri[feature[tcell]]] = True
-    out_faces, used = _assemble(f, drop, new_faces, newp.shape[0])
-    out_faces, _ = collapse_fans(newp, out_faces, n)
-    used = np.zeros(newp.shape[0], bool)
-    used[out_faces.reshape(-1)] = True
+    # the fans' two extra triangles each are taken back by collapsing a polygon vertex into the feature
+    # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
+    # corner of the fan that replaced the cell's triangles) is dropped
+    out_faces, used, _ = finish(newp, f, drop, new_faces, n)
     frank = np.zeros(newp.shape[0], np.int8)
     frank[n:] = np.minimum(rank[fan_cells], 3)
     ffacets = np.full((newp.shape[0], 3), -1, np.int32)
     lab = labels[fan_cells]
     lab[np.arange(3)[None, :] >= np.maximum(rank[fan_cells], n_faces[fan_cells])[:, None]] = -1
     ffacets[n:] = lab
-    # A vertex inside a cell's polygon (marching cubes' extra vertex of an ambiguous cube) is no
-    # corner of the fan that replaced the cell's triangles: drop the vertices no triangle uses.
     if not used.all():
-        renumber = np.cumsum(used) - 1
-        out_faces = renumber[out_faces].astype(out_faces.dtype)
         newp, frank, ffacets = newp[used], frank[used], ffacets[used]
     return dict(points=newp, faces=out_faces, feature_rank=frank, feature_facets=ffacets,
                 facet_names=list(ff.names), feature_cells=int(fan_cells.shape[0]))
