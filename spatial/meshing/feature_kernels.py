@@ -515,3 +515,34 @@ def _newton_step(q, jac, val, used):
             if used[r, i]:
                 for j in range(3):
                     q[r, j] -= jac[r, i, j] * y[i]
+
+
+# -- the pass's stages, each one compiled function (one cache load each in a fresh process) ------
+
+@numba.njit(cache=True, nogil=True)
+def _nodes(pts, faces, origin, h, node_tol):
+    """`_at_node` and `_border_nodes` in one call."""
+    at, axis = _at_node(pts, origin, h, node_tol)
+    return at, axis, _border_nodes(faces, at, axis)
+
+
+@numba.njit(cache=True, nogil=True)
+def _cells(pts, faces, origin, h, cos_limit, at_node):
+    """`_candidate_cells`, the sorted candidate keys and `_group_cells` in one call."""
+    marked, key, lo, s, vn = _candidate_cells(pts, faces, origin, h, cos_limit, at_node)
+    cand = np.unique(key[marked])
+    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(key, cand, faces, pts.shape[0])
+    return cand, lo, s, vn, tri, tcell, pvert, starts, verts, pinv
+
+
+@numba.njit(cache=True, nogil=True)
+def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, vface, cutoff):
+    """`_qef`, `_cell_labels` and the `_cell_borders` of the cells of rank 2 or more, in one call."""
+    _, x, rank = _qef(pts, pvert, normal, pinv, starts, cutoff)
+    labels, n_faces = _cell_labels(pvert, vface, starts)
+    t_verts = np.empty((tri.shape[0], 3), np.int64)
+    for i in range(tri.shape[0]):
+        for j in range(3):
+            t_verts[i, j] = faces[tri[i], j]
+    b0, b1, bc, disc = _cell_borders(t_verts, tcell, rank >= 2, pts.shape[0])
+    return x, rank, labels, n_faces, b0, b1, bc, disc

@@ -69,8 +69,7 @@ from __future__ import annotations
 import numpy as np
 
 from .feature_collapse import finish
-from .feature_kernels import (_at_node, _border_nodes, _candidate_cells, _cell_borders, _cell_labels,
-                              _facing_kernel, _group_cells, _newton_step, _qef)
+from .feature_kernels import _cells, _facing_kernel, _newton_step, _nodes, _solve_cells
 
 __all__ = ["sharpen", "sharp_polydata", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
@@ -156,16 +155,16 @@ def sharpen(solid, points, faces, origin, h):
     origin = np.asarray(origin, dtype=np.float64)
 
     # -- 0. vertices on lattice edges lying in a face ------------------------------------------
-    at_node, axis = _at_node(pts, origin, float(h), AT_NODE)
-    pts, moved = _off_flat_edges(solid, pts, f, at_node, axis, origin, float(h))
-    at_node[moved] = _at_node(pts[moved], origin, float(h), AT_NODE)[0]
+    at_node, axis, border = _nodes(pts, f, origin, float(h), AT_NODE)
+    pts, moved = _off_flat_edges(solid, pts, border, axis, origin, float(h))
+    u = (pts[moved] - origin) / h
+    at_node[moved] = np.abs(u - np.floor(u + 0.5)).max(axis=1, initial=0.0) < AT_NODE
 
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
-    marked, key, lo, s, vn = _candidate_cells(pts, f, origin, float(h), COS_CANDIDATE, at_node)
-    if not marked.any():
+    cand, lo, s, vn, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
+                                                                    at_node)
+    if cand.shape[0] == 0:
         return plain
-    cand = np.unique(key[marked])
-    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(key, cand, f, n)
     n_cells = cand.shape[0]
 
     # -- 2. exact normals at the vertices of the candidate cells ------------------------------
@@ -179,17 +178,17 @@ def sharpen(solid, points, faces, origin, h):
     vface[verts] = decider
 
     # -- 3. QEF per cell ---------------------------------------------------------------------
-    _, x, rank = _qef(pts, pvert, normal, pinv, starts, EIGEN_CUTOFF)
+    # (with the faces in each cell, most frequent first: the labels, and the surfaces to solve on; and
+    # the border of each cell's patch)
+    x, rank, labels, n_faces, b0, b1, bc, disc = _solve_cells(pts, f, tri, tcell, pvert, normal, pinv, starts,
+                                                              vface, EIGEN_CUTOFF)
     cell_lo = origin + (np.stack([cand // (s * s), (cand // s) % s, cand % s], axis=1) + lo) * h
-    # faces in each cell, most frequent first: the labels, and the surfaces to solve on
-    labels, n_faces = _cell_labels(pvert, vface, starts)
     feature = rank >= 2
     x = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
     margin = CELL_MARGIN * h
     x = np.clip(x, cell_lo + margin, cell_lo + h - margin)
 
     # -- 4./5. fans and flips, with the cells that fail handed back --------------------------
-    b0, b1, bc, disc = _cell_borders(f[tri], tcell, feature, n)
     feature &= disc           # cells whose patch is not one disc are left alone
     for _ in range(ROUNDS):
         new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x)
@@ -218,7 +217,7 @@ def sharpen(solid, points, faces, origin, h):
                 facet_names=list(ff.names), feature_cells=int(fan_cells.shape[0]))
 
 
-def _off_flat_edges(solid, pts, faces, at_node, axis, origin, h):
+def _off_flat_edges(solid, pts, border, axis, origin, h):
     """Vertices at a lattice node whose lattice edge lies in a face, moved to where that face ends.
 
     On a face lying in a lattice plane the field is 0 along the lattice
@@ -232,7 +231,7 @@ def _off_flat_edges(solid, pts, faces, at_node, axis, origin, h):
     """
     from .arrays import ZERO_TIE
 
-    v = np.flatnonzero(_border_nodes(faces, at_node, axis))
+    v = np.flatnonzero(border)
     if v.shape[0] == 0:
         return pts, v
     tie = ZERO_TIE * h
