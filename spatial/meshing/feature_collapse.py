@@ -124,29 +124,39 @@ def _finish(p, f, drop, new, n, cos_move, renumber):
     for t in range(new.shape[0]):
         for j in range(3):
             near[new[t, j]] = True
-    used = np.zeros(n_p, np.bool_)
+    # one pass: the triangles kept beside the fans (gathered), and the vertices of the replaced triangles
+    # on no new one (inner vertices of a cell's patch, whose whole star was replaced) marked unused
+    used = np.ones(n_p, np.bool_)
+    source = np.empty(max(16, new.shape[0]), np.int64)
     n_near = 0
     n_kept = 0
     for t in range(m):
-        if not drop[t]:
-            a, b, c = f[t, 0], f[t, 1], f[t, 2]
-            used[a] = True; used[b] = True; used[c] = True
-            n_near += near[a] or near[b] or near[c]
-            n_kept += 1
+        a, b, c = f[t, 0], f[t, 1], f[t, 2]
+        if drop[t]:
+            if not near[a]:
+                used[a] = False
+            if not near[b]:
+                used[b] = False
+            if not near[c]:
+                used[c] = False
+            continue
+        n_kept += 1
+        if near[a] or near[b] or near[c]:
+            if n_near == source.shape[0]:
+                grown = np.empty(2 * n_near, np.int64)
+                grown[:n_near] = source
+                source = grown
+            source[n_near] = t
+            n_near += 1
     k = n_near + new.shape[0]
     faces = np.empty((k, 3), np.int64)
-    source = np.empty(n_near, np.int64)
-    r = 0
-    for t in range(m):
-        if not drop[t] and (near[f[t, 0]] or near[f[t, 1]] or near[f[t, 2]]):
-            for j in range(3):
-                faces[r, j] = f[t, j]
-            source[r] = t
-            r += 1
+    for r in range(n_near):
+        for j in range(3):
+            faces[r, j] = f[source[r], j]
+    r = n_near
     for t in range(new.shape[0]):
         for j in range(3):
             faces[r, j] = new[t, j]
-            used[new[t, j]] = True
         r += 1
     into, dropped, c = _collapse(p, faces, n, near, cos_move)
     for v in range(n_p):
