@@ -29,7 +29,18 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    joined: the mesh follows the edge;
 5. every new triangle must face the way the exact normals of its ordinary
    vertices do; cells whose triangles do not are given back their marching
-   cubes triangles and the pass is redone without them.
+   cubes triangles and the pass is redone without them;
+6. a fan has two triangles more than the marching-cubes polygon it
+   replaces: each feature vertex then takes the nearest vertex of its
+   polygon (an edge collapse, `feature_collapse`), where that keeps the mesh
+   manifold and turns no triangle much, so the feature mesh has about as
+   many triangles as the plain one.
+
+The stages run as a few compiled functions (`feature_kernels`: the node
+tests, the candidate cells grouped by a hash probe and a counting sort, the
+QEF solved by Jacobi rotations per cell with the labels and the patch
+borders; `feature_collapse.finish`), between the calls into the solid's
+facets, which stay numpy.
 
 Each vertex carries ``feature_rank`` (0, 2 or 3) and ``feature_facets`` (up
 to three face indices into the field data ``facet_names``; -1 unused), from
