@@ -330,7 +330,7 @@ def _qef(pts, pvert, normal, pinv, starts, cutoff):
 
 
 @numba.njit(cache=True, nogil=True)
-def _cell_labels(pvert, vface, starts):
+def _cell_labels(pinv, decider, starts):
     """Per cell: its faces (the deciding facets of its vertices), most frequent first then by index;
     the first three as labels (-1 unused) and how many there are."""
     n_cells = starts.shape[0] - 1
@@ -345,7 +345,7 @@ def _cell_labels(pvert, vface, starts):
             fc = np.empty(2 * (s1 - s0), np.int64)
             cnt = np.empty(2 * (s1 - s0), np.int64)
         for i in range(s0, s1):
-            f = vface[pvert[i]]
+            f = decider[pinv[i]]
             found = False
             for j in range(k):
                 if fc[j] == f:
@@ -536,10 +536,10 @@ def _cells(pts, faces, origin, h, cos_limit, at_node):
 
 
 @numba.njit(cache=True, nogil=True)
-def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, vface, cutoff):
+def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, decider, cutoff):
     """`_qef`, `_cell_labels` and the `_cell_borders` of the cells of rank 2 or more, in one call."""
     _, x, rank = _qef(pts, pvert, normal, pinv, starts, cutoff)
-    labels, n_faces = _cell_labels(pvert, vface, starts)
+    labels, n_faces = _cell_labels(pinv, decider, starts)
     t_verts = np.empty((tri.shape[0], 3), np.int64)
     for i in range(tri.shape[0]):
         for j in range(3):

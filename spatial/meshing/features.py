@@ -180,19 +180,18 @@ def sharpen(solid, points, faces, origin, h):
 
     # -- 2. exact normals at the vertices of the candidate cells ------------------------------
     # the exact normal of the face deciding the field (closed forms; forward steps of 1e-6 h where none)
-    decider = ff.decide(pts[verts])[1]
-    normal = _unit(ff.gradients_of(pts[verts], decider, 1e-6 * h))
+    at_verts = pts[verts]
+    decider = np.asarray(ff.decide(at_verts)[1], dtype=np.int64)
+    normal = _unit(ff.gradients_of(at_verts, decider, 1e-6 * h))
     normal *= np.where(np.einsum("ij,ij->i", normal, vn[verts]) < 0, -1.0, 1.0)[:, None]
     exact = np.zeros((n, 3))
     exact[verts] = normal
-    vface = np.full(n, -1, np.int64)
-    vface[verts] = decider
 
     # -- 3. QEF per cell ---------------------------------------------------------------------
     # (with the faces in each cell, most frequent first: the labels, and the surfaces to solve on; and
     # the border of each cell's patch)
     x, rank, labels, n_faces, b0, b1, bc, disc = _solve_cells(pts, f, tri, tcell, pvert, normal, pinv, starts,
-                                                              vface, EIGEN_CUTOFF)
+                                                              decider, EIGEN_CUTOFF)
     cell_lo = origin + (np.stack([cand // (s * s), (cand // s) % s, cand % s], axis=1) + lo) * h
     feature = rank >= 2
     x = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
