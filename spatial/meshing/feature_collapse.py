@@ -68,8 +68,8 @@ def collapse_fans(points, faces, n, cos_move=COS_MOVE):
     """
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
     new = (faces >= n).any(axis=1)
-    out, _, c = finish(points, faces[~new], np.zeros(int((~new).sum()), np.bool_), faces[new], n,
-                       cos_move, renumber=False)
+    out, _, c, _ = finish(points, faces[~new], np.zeros(int((~new).sum()), np.bool_), faces[new], n,
+                          cos_move, renumber=False)
     return out, c
 
 
@@ -98,6 +98,8 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True):
         The points the triangles use (the vertices taken by a collapse, and
         marching cubes' inner vertices of the fanned cells, are not).
     collapsed : int
+    points : (p', 3) float
+        The points used (all of them when not renumbering).
     """
     f = np.ascontiguousarray(faces)
     if f.dtype not in (np.int32, np.int64):
@@ -189,7 +191,17 @@ def _finish(p, f, drop, new, n, cos_move, renumber):
             for j in range(3):
                 out[r, j] = index[into[faces[s, j]]]
             r += 1
-    return out, used, c
+    # the points used, in order (all of them when not renumbering)
+    n_used = 0
+    for v in range(n_p):
+        n_used += used[v] or not renumber
+    pout = np.empty((n_used, 3))
+    q = 0
+    for v in range(n_p):
+        if used[v] or not renumber:
+            pout[q, 0] = p[v, 0]; pout[q, 1] = p[v, 1]; pout[q, 2] = p[v, 2]
+            q += 1
+    return out, used, c, pout
 
 
 @numba.njit(cache=True, nogil=True)

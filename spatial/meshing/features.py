@@ -214,15 +214,16 @@ def sharpen(solid, points, faces, origin, h):
     # the fans' two extra triangles each are taken back by collapsing a polygon vertex into the feature
     # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
     # corner of the fan that replaced the cell's triangles) is dropped
-    out_faces, used, _ = finish(newp, f, drop, new_faces, n)
+    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n)
+    # the feature vertices come last, in the order of their cells
+    kept = used[n:]
+    n_plain = newp.shape[0] - int(kept.sum())
     frank = np.zeros(newp.shape[0], np.int8)
-    frank[n:] = np.minimum(rank[fan_cells], 3)
+    frank[n_plain:] = np.minimum(rank[fan_cells], 3)[kept]
     ffacets = np.full((newp.shape[0], 3), -1, np.int32)
     lab = labels[fan_cells]
     lab[np.arange(3)[None, :] >= np.maximum(rank[fan_cells], n_faces[fan_cells])[:, None]] = -1
-    ffacets[n:] = lab
-    if not used.all():
-        newp, frank, ffacets = newp[used], frank[used], ffacets[used]
+    ffacets[n_plain:] = lab[kept]
     return dict(points=newp, faces=out_faces, feature_rank=frank, feature_facets=ffacets,
                 facet_names=list(ff.names), feature_cells=int(fan_cells.shape[0]))
 
