@@ -169,7 +169,7 @@ def _group_cells(key, cells, faces, n):
             slot = (slot + 1) & mask
         table[slot] = c
     m = key.shape[0]
-    at = np.full(m, -1, np.int64)
+    at = np.full(m, -1, np.int32)
     count = np.zeros(n_cells + 1, np.int64)
     for t in range(m):
         k = key[t]
