@@ -18,7 +18,12 @@ A collapse is made only where it keeps the mesh a closed oriented
   (a feature vertex takes one vertex at most), so each link condition is read
   on the current mesh;
 * every triangle that moves keeps an area over a millionth of its longest
-  edge squared and turns by less than ``acos(cos_move)`` from where it was.
+  edge squared and turns by less than ``acos(cos_move)`` from where it was;
+* the vertex taken joins a vertex beyond the fans (of a face's plain mesh):
+  a speck made of fans alone could be turned inside out by collapses that
+  each turn its triangles little; and it joins no feature vertex the
+  feature vertex does not join already, so the edges between feature
+  vertices, the feature curves, are kept as the fans and flips made them.
 
 Cells are taken in order and, in each, the polygon's vertices nearest the
 feature vertex first: the result is deterministic.
@@ -260,7 +265,7 @@ def _collapse(p, faces, n, near, cos_move):
                         k += 1
         for i in range(k):
             v = ring[i]
-            if _can_collapse(p, faces, star, start, dropped, into, v, fv, cos_move):
+            if _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move):
                 n_t = _live_star(star, start, dropped, v, tri)
                 for q in range(n_t):
                     t = tri[q]
@@ -286,12 +291,34 @@ def _live_star(star, start, dropped, x, out):
 
 
 @numba.njit(cache=True, nogil=True)
-def _can_collapse(p, faces, star, start, dropped, into, v, fv, cos_move):
+def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move):
     """Whether moving `v` onto the feature vertex `fv` (and dropping their two triangles) is safe."""
     tv = np.empty(128, np.int64)
     tf = np.empty(128, np.int64)
     n_v = _live_star(star, start, dropped, v, tv)
     n_f = _live_star(star, start, dropped, fv, tf)
+    # `v` must join a vertex beyond the fans (a face's plain mesh: a speck made of fans alone can be
+    # turned inside out by collapses that each turn its triangles little); and no feature vertex that
+    # `fv` does not join already, so that the edges between feature vertices (the feature curves) stay
+    # as the fans and flips made them
+    beyond = False
+    for q in range(n_v):
+        t = tv[q]
+        for j in range(3):
+            w = into[faces[t, j]]
+            if not near[w]:
+                beyond = True
+            if w >= n and w != fv:
+                joined = False
+                for s in range(n_f):
+                    u = tf[s]
+                    if into[faces[u, 0]] == w or into[faces[u, 1]] == w or into[faces[u, 2]] == w:
+                        joined = True
+                        break
+                if not joined:
+                    return False
+    if not beyond:
+        return False
     # the link condition: exactly two triangles hold the edge, and the two ends share no other neighbour
     shared = 0
     for q in range(n_v):
