@@ -31,32 +31,52 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
     """Lattice cell of every triangle and whether it departs from a vertex normal (one pass each)."""
     m = faces.shape[0]
     n = pts.shape[0]
+    # cell keys ``(i * s + j) * s + k`` from a corner below every vertex: the order of the keys is the
+    # cells' lexicographic order whatever the corner and the stride, as long as they cover the mesh
+    lo = np.empty(3, np.int64)
+    s = np.int64(1)
+    for j in range(3):
+        a, b = np.inf, -np.inf
+        for v in range(n):
+            q = pts[v, j]
+            if q < a:
+                a = q
+            if q > b:
+                b = q
+        lo[j] = np.int64(np.floor((a - origin[j]) / h)) - 1
+        span = np.int64(np.floor((b - origin[j]) / h)) - lo[j] + 2
+        if span > s:
+            s = span
     vn = np.zeros((n, 3))
     tn = np.empty((m, 3))
+    key = np.empty(m, np.int64)
+    third = 1.0 / 3.0
     for t in range(m):
         a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
         ux = pts[b, 0] - pts[a, 0]; uy = pts[b, 1] - pts[a, 1]; uz = pts[b, 2] - pts[a, 2]
         vx = pts[c, 0] - pts[a, 0]; vy = pts[c, 1] - pts[a, 1]; vz = pts[c, 2] - pts[a, 2]
         cx = uy * vz - uz * vy; cy = uz * vx - ux * vz; cz = ux * vy - uy * vx
         tn[t, 0] = cx; tn[t, 1] = cy; tn[t, 2] = cz
-        for k in range(3):
-            v = faces[t, k]
-            vn[v, 0] += cx; vn[v, 1] += cy; vn[v, 2] += cz
+        vn[a, 0] += cx; vn[a, 1] += cy; vn[a, 2] += cz
+        vn[b, 0] += cx; vn[b, 1] += cy; vn[b, 2] += cz
+        vn[c, 0] += cx; vn[c, 1] += cy; vn[c, 2] += cz
+        k = np.int64(0)
+        for j in range(3):
+            q = (pts[a, j] + pts[b, j] + pts[c, j]) * third
+            k = k * s + np.int64(np.floor((q - origin[j]) / h)) - lo[j]
+        key[t] = k
     for v in range(n):
-        s = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
-        if s > 0:
-            vn[v, 0] /= s; vn[v, 1] /= s; vn[v, 2] /= s
+        r = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
+        if r > 0:
+            vn[v, 0] /= r; vn[v, 1] /= r; vn[v, 2] /= r
     marked = np.zeros(m, np.bool_)
-    ijk = np.empty((m, 3), np.int64)
-    lo = np.full(3, np.iinfo(np.int64).max, np.int64)
-    third = 1.0 / 3.0
     for t in range(m):
-        s = np.sqrt(tn[t, 0] ** 2 + tn[t, 1] ** 2 + tn[t, 2] ** 2)
-        if s > 0:
+        r = np.sqrt(tn[t, 0] ** 2 + tn[t, 1] ** 2 + tn[t, 2] ** 2)
+        if r > 0:
             worst = 1.0
             for k in range(3):
                 v = faces[t, k]
-                d = (tn[t, 0] * vn[v, 0] + tn[t, 1] * vn[v, 1] + tn[t, 2] * vn[v, 2]) / s
+                d = (tn[t, 0] * vn[v, 0] + tn[t, 1] * vn[v, 1] + tn[t, 2] * vn[v, 2]) / r
                 if d < worst:
                     worst = d
             n_node = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
@@ -64,40 +84,7 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
             # crossings on lattice edges lying in the face's plane are undefined there, and the chamfer
             # they leave may bend less than the normals' test sees
             marked[t] = worst < cos_limit or (n_node > 0 and n_node < 3)
-        for j in range(3):
-            q = (pts[faces[t, 0], j] + pts[faces[t, 1], j] + pts[faces[t, 2], j]) * third
-            ijk[t, j] = np.int64(np.floor((q - origin[j]) / h))
-            if ijk[t, j] < lo[j]:
-                lo[j] = ijk[t, j]
-    # one key per cell, ``(i * s + j) * s + k`` from the lowest cell
-    s = np.int64(1)
-    for t in range(m):
-        for j in range(3):
-            if ijk[t, j] - lo[j] + 1 > s:
-                s = ijk[t, j] - lo[j] + 1
-    key = np.empty(m, np.int64)
-    for t in range(m):
-        key[t] = ((ijk[t, 0] - lo[0]) * s + ijk[t, 1] - lo[1]) * s + ijk[t, 2] - lo[2]
     return marked, key, lo, s, vn
-
-
-@numba.njit(cache=True, nogil=True)
-def _cell_index(key, cells):
-    """Index of each key in the sorted `cells`, -1 where it is not there (binary search)."""
-    out = np.full(key.shape[0], -1, np.int64)
-    n = cells.shape[0]
-    for t in range(key.shape[0]):
-        k = key[t]
-        a, b = 0, n
-        while a < b:
-            c = (a + b) >> 1
-            if cells[c] < k:
-                a = c + 1
-            else:
-                b = c
-        if a < n and cells[a] == k:
-            out[t] = a
-    return out
 
 
 @numba.njit(cache=True, nogil=True)
@@ -112,29 +99,6 @@ def _border_nodes(faces, at_node, axis):
                 if at_node[v] and axis[v] >= 0:
                     out[v] = True
     return out
-
-
-@numba.njit(cache=True, nogil=True)
-def _assemble(f, drop, new_faces, n_points):
-    """The triangles not dropped followed by the new ones, and which of the points they use."""
-    kept = 0
-    for t in range(f.shape[0]):
-        kept += not drop[t]
-    out = np.empty((kept + new_faces.shape[0], 3), np.int64)
-    used = np.zeros(n_points, np.bool_)
-    r = 0
-    for t in range(f.shape[0]):
-        if not drop[t]:
-            for j in range(3):
-                out[r, j] = f[t, j]
-                used[f[t, j]] = True
-            r += 1
-    for t in range(new_faces.shape[0]):
-        for j in range(3):
-            out[r, j] = new_faces[t, j]
-            used[new_faces[t, j]] = True
-        r += 1
-    return out, used
 
 
 @numba.njit(cache=True, nogil=True)
@@ -166,3 +130,419 @@ def _facing_kernel(points, faces, exact, n, min_facing):
             bad[t] = True
     return bad
 
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _slot(k, mask):
+    """Hash slot of a cell key (Fibonacci multiply, high bits folded down: keys come in runs)."""
+    x = k * np.int64(-7046029254386353131)
+    return (x ^ (x >> 31)) & mask
+
+
+@numba.njit(cache=True, nogil=True)
+def _group_cells(key, cells, faces, n):
+    """The candidate cells' triangles and (cell, vertex) pairs, grouped by cell without a global sort.
+
+    `cells` is the sorted array of candidate cell keys.  Each triangle's
+    cell is found by one probe of an open-addressing table (the position in
+    `cells` being the cell's index); a counting sort groups the triangles
+    by cell, in triangle order within each, and each cell's few distinct
+    vertices are sorted in place.  The result is what ``np.unique`` and a
+    stable ``argsort`` would give.
+
+    Returns
+    -------
+    tri, tcell : the triangles in candidate cells, by cell, and the cell of each
+    pcell, pvert : the (cell, vertex) pairs, sorted
+    starts : (cells + 1,) first pair of every cell
+    verts, pinv : the distinct vertices (sorted) and each pair's index among them
+    """
+    n_cells = cells.shape[0]
+    size = 1
+    while size < 2 * n_cells + 2:
+        size *= 2
+    mask = size - 1
+    table = np.full(size, -1, np.int64)
+    for c in range(n_cells):
+        slot = _slot(cells[c], mask)
+        while table[slot] >= 0:
+            slot = (slot + 1) & mask
+        table[slot] = c
+    m = key.shape[0]
+    at = np.full(m, -1, np.int32)
+    count = np.zeros(n_cells + 1, np.int64)
+    for t in range(m):
+        k = key[t]
+        slot = _slot(k, mask)
+        while True:
+            c = table[slot]
+            if c < 0:
+                break
+            if cells[c] == k:
+                at[t] = c
+                count[c + 1] += 1
+                break
+            slot = (slot + 1) & mask
+    for c in range(n_cells):
+        count[c + 1] += count[c]
+    n_tri = count[n_cells]
+    tri = np.empty(n_tri, np.int64)
+    tcell = np.empty(n_tri, np.int64)
+    fill = count[:n_cells].copy()
+    for t in range(m):
+        c = at[t]
+        if c >= 0:
+            tri[fill[c]] = t
+            tcell[fill[c]] = c
+            fill[c] += 1
+    # each cell's distinct vertices, sorted (a cell holds a dozen at most: insertion sort)
+    buf = np.empty(3 * n_tri, np.int64)
+    starts = np.empty(n_cells + 1, np.int64)
+    r = 0
+    for c in range(n_cells):
+        starts[c] = r
+        for q in range(count[c], count[c + 1]):
+            t = tri[q]
+            for j in range(3):
+                v = np.int64(faces[t, j])
+                i = r
+                dup = False
+                while i > starts[c] and buf[i - 1] >= v:
+                    if buf[i - 1] == v:
+                        dup = True
+                        break
+                    i -= 1
+                if dup:
+                    continue
+                for s in range(r, i, -1):
+                    buf[s] = buf[s - 1]
+                buf[i] = v
+                r += 1
+    starts[n_cells] = r
+    pvert = buf[:r].copy()
+    pcell = np.empty(r, np.int64)
+    for c in range(n_cells):
+        for i in range(starts[c], starts[c + 1]):
+            pcell[i] = c
+    seen = np.zeros(n, np.bool_)
+    for i in range(r):
+        seen[pvert[i]] = True
+    index = np.full(n, -1, np.int64)
+    n_verts = 0
+    for v in range(n):
+        if seen[v]:
+            index[v] = n_verts
+            n_verts += 1
+    verts = np.empty(n_verts, np.int64)
+    for v in range(n):
+        if seen[v]:
+            verts[index[v]] = v
+    pinv = np.empty(r, np.int64)
+    for i in range(r):
+        pinv[i] = index[pvert[i]]
+    return tri, tcell, pcell, pvert, starts, verts, pinv
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _eigh3(a, w, u):
+    """Eigenvalues `w` (ascending) and eigenvectors (columns of `u`) of the symmetric 3x3 `a`, by cyclic
+    Jacobi rotations (a few sweeps reach round-off; the QEF needs no more than LAPACK's accuracy)."""
+    for i in range(3):
+        for j in range(3):
+            u[i, j] = 1.0 if i == j else 0.0
+    for _ in range(12):
+        off = a[0, 1] * a[0, 1] + a[0, 2] * a[0, 2] + a[1, 2] * a[1, 2]
+        scale = a[0, 0] * a[0, 0] + a[1, 1] * a[1, 1] + a[2, 2] * a[2, 2]
+        if off <= 1e-34 * scale or off == 0.0:
+            break
+        for p in range(2):
+            for q in range(p + 1, 3):
+                apq = a[p, q]
+                if apq == 0.0:
+                    continue
+                theta = (a[q, q] - a[p, p]) / (2.0 * apq)
+                t = (1.0 if theta >= 0 else -1.0) / (abs(theta) + np.sqrt(theta * theta + 1.0))
+                c = 1.0 / np.sqrt(t * t + 1.0)
+                s = t * c
+                for k in range(3):
+                    akp, akq = a[k, p], a[k, q]
+                    a[k, p] = c * akp - s * akq
+                    a[k, q] = s * akp + c * akq
+                for k in range(3):
+                    apk, aqk = a[p, k], a[q, k]
+                    a[p, k] = c * apk - s * aqk
+                    a[q, k] = s * apk + c * aqk
+                for k in range(3):
+                    ukp, ukq = u[k, p], u[k, q]
+                    u[k, p] = c * ukp - s * ukq
+                    u[k, q] = s * ukp + c * ukq
+    for i in range(3):
+        w[i] = a[i, i]
+
+
+@numba.njit(cache=True, nogil=True)
+def _qef(pts, pvert, normal, pinv, starts, cutoff):
+    """Per cell: the mass point of its vertices and the QEF minimiser around it, with its rank.
+
+    ``sum (n_i . (x - p_i))^2`` over the cell's (vertex, exact normal) pairs is
+    minimised relative to the mass point by the pseudo-inverse of ``A^T A``
+    whose eigenvalues under ``cutoff`` times the largest are dropped (what is
+    left is the rank: 2 an edge, 3 a corner).
+    """
+    n_cells = starts.shape[0] - 1
+    mass = np.zeros((n_cells, 3))
+    x = np.empty((n_cells, 3))
+    rank = np.zeros(n_cells, np.int64)
+    a = np.empty((3, 3))
+    u = np.empty((3, 3))
+    w = np.empty(3)
+    b = np.empty(3)
+    for c in range(n_cells):
+        s0, s1 = starts[c], starts[c + 1]
+        for i in range(s0, s1):
+            for j in range(3):
+                mass[c, j] += pts[pvert[i], j]
+        for j in range(3):
+            mass[c, j] /= s1 - s0
+        a[:, :] = 0.0
+        b[:] = 0.0
+        for i in range(s0, s1):
+            v = pvert[i]
+            e = pinv[i]
+            d = 0.0
+            for j in range(3):
+                d += normal[e, j] * (pts[v, j] - mass[c, j])
+            for j in range(3):
+                b[j] += normal[e, j] * d
+                for k in range(3):
+                    a[j, k] += normal[e, j] * normal[e, k]
+        _eigh3(a, w, u)
+        top = max(w[0], w[1], w[2])
+        for j in range(3):
+            x[c, j] = mass[c, j]
+        for k in range(3):
+            if w[k] > cutoff * top:
+                rank[c] += 1
+                ub = (u[0, k] * b[0] + u[1, k] * b[1] + u[2, k] * b[2]) / w[k]
+                for j in range(3):
+                    x[c, j] += u[j, k] * ub
+    return mass, x, rank
+
+
+@numba.njit(cache=True, nogil=True)
+def _cell_labels(pinv, decider, starts):
+    """Per cell: its faces (the deciding facets of its vertices), most frequent first then by index;
+    the first three as labels (-1 unused) and how many there are."""
+    n_cells = starts.shape[0] - 1
+    labels = np.full((n_cells, 3), -1, np.int64)
+    n_faces = np.zeros(n_cells, np.int64)
+    fc = np.empty(64, np.int64)
+    cnt = np.empty(64, np.int64)
+    for c in range(n_cells):
+        k = 0
+        s0, s1 = starts[c], starts[c + 1]
+        if s1 - s0 > fc.shape[0]:
+            fc = np.empty(2 * (s1 - s0), np.int64)
+            cnt = np.empty(2 * (s1 - s0), np.int64)
+        for i in range(s0, s1):
+            f = decider[pinv[i]]
+            found = False
+            for j in range(k):
+                if fc[j] == f:
+                    cnt[j] += 1
+                    found = True
+                    break
+            if not found:
+                fc[k] = f
+                cnt[k] = 1
+                k += 1
+        # order by count (descending), then face (ascending): insertion sort of k (a handful)
+        for i in range(1, k):
+            f, m = fc[i], cnt[i]
+            j = i
+            while j > 0 and (cnt[j - 1] < m or (cnt[j - 1] == m and fc[j - 1] > f)):
+                fc[j] = fc[j - 1]
+                cnt[j] = cnt[j - 1]
+                j -= 1
+            fc[j] = f
+            cnt[j] = m
+        n_faces[c] = k
+        for j in range(min(k, 3)):
+            labels[c, j] = fc[j]
+    return labels, n_faces
+
+
+@numba.njit(cache=True, nogil=True)
+def _cell_borders(t_verts, tcell, feature, n):
+    """Border edges of every feature cell's patch, and whether the patch is one disc.
+
+    The triangles come grouped by cell (`tcell` sorted).  An edge met once
+    among a cell's triangles is on its border; the patch is one disc when
+    ``V - E + F == 1`` and it has as many border vertices as border edges
+    (one simple loop), at least three.  The border edges of the disc cells
+    are returned in the cell's order, then by undirected key ``min * n + max``
+    (the order of a lexsort by cell and key), as directed in their triangle.
+    """
+    n_cells = feature.shape[0]
+    disc = np.zeros(n_cells, np.bool_)
+    m = t_verts.shape[0]
+    b0 = np.empty(3 * m, np.int64)
+    b1 = np.empty(3 * m, np.int64)
+    bc = np.empty(3 * m, np.int64)
+    e0 = np.empty(48, np.int64)
+    e1 = np.empty(48, np.int64)
+    ek = np.empty(48, np.int64)
+    once = np.empty(48, np.bool_)
+    vs = np.empty(48, np.int64)
+    r = 0
+    t = 0
+    while t < m:
+        c = tcell[t]
+        u = t
+        while u < m and tcell[u] == c:
+            u += 1
+        k = u - t
+        if feature[c]:
+            if 3 * k > e0.shape[0]:
+                e0 = np.empty(6 * k, np.int64); e1 = np.empty(6 * k, np.int64); ek = np.empty(6 * k, np.int64)
+                once = np.empty(6 * k, np.bool_); vs = np.empty(6 * k, np.int64)
+            q = 0
+            for i in range(t, u):
+                for j in range(3):
+                    a, b = t_verts[i, j], t_verts[i, (j + 1) % 3]
+                    e0[q] = a
+                    e1[q] = b
+                    ek[q] = min(a, b) * n + max(a, b)
+                    q += 1
+            n_e = 0
+            n_b = 0
+            for i in range(q):
+                first = True
+                dup = False
+                for j in range(q):
+                    if j != i and ek[j] == ek[i]:
+                        dup = True
+                        if j < i:
+                            first = False
+                once[i] = not dup
+                n_e += first
+                n_b += not dup
+            # distinct vertices, and distinct first ends of border edges
+            n_v = 0
+            for i in range(q):
+                new = True
+                for j in range(n_v):
+                    if vs[j] == e0[i]:
+                        new = False
+                        break
+                if new:
+                    vs[n_v] = e0[i]
+                    n_v += 1
+            n_bv = 0
+            for i in range(q):
+                if once[i]:
+                    new = True
+                    for j in range(i):
+                        if once[j] and e0[j] == e0[i]:
+                            new = False
+                            break
+                    n_bv += new
+            if n_v - n_e + k == 1 and n_b == n_bv and n_b >= 3:
+                disc[c] = True
+                # the border edges by key (distinct within the cell: insertion sort of a handful)
+                r0 = r
+                for i in range(q):
+                    if once[i]:
+                        j = r
+                        while j > r0 and ek[bc[j - 1]] > ek[i]:
+                            bc[j] = bc[j - 1]
+                            j -= 1
+                        bc[j] = i
+                        r += 1
+                for j in range(r0, r):
+                    i = bc[j]
+                    b0[j] = e0[i]
+                    b1[j] = e1[i]
+                    bc[j] = c
+        t = u
+    return b0[:r].copy(), b1[:r].copy(), bc[:r].copy(), disc
+
+
+@numba.njit(cache=True, nogil=True)
+def _newton_step(q, jac, val, used):
+    """One Gauss-Newton step per row, in place: ``q -= J^T (J J^T)^-1 f`` over the `used` facets.
+
+    ``J J^T`` (identity on the unused rows) is factored with partial
+    pivoting; rows whose determinant is under 1e-12 do not move.
+    """
+    k = jac.shape[1]
+    a = np.empty((k, k))
+    y = np.empty(k)
+    for r in range(q.shape[0]):
+        for i in range(k):
+            for j in range(k):
+                if used[r, i] and used[r, j]:
+                    a[i, j] = jac[r, i, 0] * jac[r, j, 0] + jac[r, i, 1] * jac[r, j, 1] + jac[r, i, 2] * jac[r, j, 2]
+                else:
+                    a[i, j] = 1.0 if i == j else 0.0
+            y[i] = val[r, i]
+        det = 1.0
+        for c in range(k):
+            p = c
+            for i in range(c + 1, k):
+                if abs(a[i, c]) > abs(a[p, c]):
+                    p = i
+            if p != c:
+                det = -det
+                for j in range(k):
+                    a[c, j], a[p, j] = a[p, j], a[c, j]
+                y[c], y[p] = y[p], y[c]
+            det *= a[c, c]
+            if a[c, c] == 0.0:
+                break
+            for i in range(c + 1, k):
+                f = a[i, c] / a[c, c]
+                for j in range(c, k):
+                    a[i, j] -= f * a[c, j]
+                y[i] -= f * y[c]
+        if not abs(det) > 1e-12:
+            continue
+        for i in range(k - 1, -1, -1):
+            for j in range(i + 1, k):
+                y[i] -= a[i, j] * y[j]
+            y[i] /= a[i, i]
+        for i in range(k):
+            if used[r, i]:
+                for j in range(3):
+                    q[r, j] -= jac[r, i, j] * y[i]
+
+
+# -- the pass's stages, each one compiled function (one cache load each in a fresh process) ------
+
+@numba.njit(cache=True, nogil=True)
+def _nodes(pts, faces, origin, h, node_tol):
+    """`_at_node` and `_border_nodes` in one call."""
+    at, axis = _at_node(pts, origin, h, node_tol)
+    return at, axis, _border_nodes(faces, at, axis)
+
+
+@numba.njit(cache=True, nogil=True)
+def _cells(pts, faces, origin, h, cos_limit, at_node):
+    """`_candidate_cells`, the sorted candidate keys and `_group_cells` in one call."""
+    marked, key, lo, s, vn = _candidate_cells(pts, faces, origin, h, cos_limit, at_node)
+    cand = np.unique(key[marked])
+    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(key, cand, faces, pts.shape[0])
+    return cand, lo, s, vn, tri, tcell, pvert, starts, verts, pinv
+
+
+@numba.njit(cache=True, nogil=True)
+def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, decider, cutoff):
+    """`_qef`, `_cell_labels` and the `_cell_borders` of the cells of rank 2 or more, in one call."""
+    _, x, rank = _qef(pts, pvert, normal, pinv, starts, cutoff)
+    labels, n_faces = _cell_labels(pinv, decider, starts)
+    t_verts = np.empty((tri.shape[0], 3), np.int64)
+    for i in range(tri.shape[0]):
+        for j in range(3):
+            t_verts[i, j] = faces[tri[i], j]
+    b0, b1, bc, disc = _cell_borders(t_verts, tcell, rank >= 2, pts.shape[0])
+    return x, rank, labels, n_faces, b0, b1, bc, disc

@@ -29,7 +29,18 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    joined: the mesh follows the edge;
 5. every new triangle must face the way the exact normals of its ordinary
    vertices do; cells whose triangles do not are given back their marching
-   cubes triangles and the pass is redone without them.
+   cubes triangles and the pass is redone without them;
+6. a fan has two triangles more than the marching-cubes polygon it
+   replaces: each feature vertex then takes the nearest vertex of its
+   polygon (an edge collapse, `feature_collapse`), where that keeps the mesh
+   manifold and turns no triangle much, so the feature mesh has about as
+   many triangles as the plain one.
+
+The stages run as a few compiled functions (`feature_kernels`: the node
+tests, the candidate cells grouped by a hash probe and a counting sort, the
+QEF solved by Jacobi rotations per cell with the labels and the patch
+borders; `feature_collapse.finish`), between the calls into the solid's
+facets, which stay numpy.
 
 Each vertex carries ``feature_rank`` (0, 2 or 3) and ``feature_facets`` (up
 to three face indices into the field data ``facet_names``; -1 unused), from
@@ -68,7 +79,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .feature_kernels import _assemble, _at_node, _border_nodes, _candidate_cells, _cell_index, _facing_kernel
+from .feature_collapse import finish
+from .feature_kernels import _cells, _facing_kernel, _newton_step, _nodes, _solve_cells
 
 __all__ = ["sharpen", "sharp_polydata", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
@@ -154,74 +166,42 @@ def sharpen(solid, points, faces, origin, h):
     origin = np.asarray(origin, dtype=np.float64)
 
     # -- 0. vertices on lattice edges lying in a face ------------------------------------------
-    at_node, axis = _at_node(pts, origin, float(h), AT_NODE)
-    pts, moved = _off_flat_edges(solid, pts, f, at_node, axis, origin, float(h))
-    at_node[moved] = _at_node(pts[moved], origin, float(h), AT_NODE)[0]
+    at_node, axis, border = _nodes(pts, f, origin, float(h), AT_NODE)
+    pts, moved = _off_flat_edges(solid, pts, border, axis, origin, float(h))
+    u = (pts[moved] - origin) / h
+    at_node[moved] = np.abs(u - np.floor(u + 0.5)).max(axis=1, initial=0.0) < AT_NODE
 
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
-    marked, key, lo, s, vn = _candidate_cells(pts, f, origin, float(h), COS_CANDIDATE, at_node)
-    if not marked.any():
+    cand, lo, s, vn, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
+                                                                    at_node)
+    if cand.shape[0] == 0:
         return plain
-    cand = np.unique(key[marked])
-    at = _cell_index(key, cand)
-    tri = np.flatnonzero(at >= 0)
-    tri = tri[np.argsort(at[tri], kind="stable")]
-    tcell = at[tri]                                  # candidate-cell index of each chosen triangle
     n_cells = cand.shape[0]
 
     # -- 2. exact normals at the vertices of the candidate cells ------------------------------
-    pair = np.unique(tcell[:, None] * np.int64(n) + f[tri])  # (cell, vertex), sorted by cell
-    pcell, pvert = pair // n, pair % n
-    # the distinct vertices, in order, and each pair's index among them (np.unique without the sort)
-    seen = np.zeros(n, bool)
-    seen[pvert] = True
-    verts = np.flatnonzero(seen)
-    pinv = (np.cumsum(seen) - 1)[pvert]
     # the exact normal of the face deciding the field (closed forms; forward steps of 1e-6 h where none)
-    decider = ff.decide(pts[verts])[1]
-    normal = _unit(ff.gradients_of(pts[verts], decider, 1e-6 * h))
+    at_verts = pts[verts]
+    decider = np.asarray(ff.decide(at_verts)[1], dtype=np.int64)
+    normal = _unit(ff.gradients_of(at_verts, decider, 1e-6 * h))
     normal *= np.where(np.einsum("ij,ij->i", normal, vn[verts]) < 0, -1.0, 1.0)[:, None]
     exact = np.zeros((n, 3))
     exact[verts] = normal
-    vface = np.full(n, -1, np.int64)
-    vface[verts] = decider
 
     # -- 3. QEF per cell ---------------------------------------------------------------------
-    starts = _runs(pcell)
-    count = np.diff(np.r_[starts, pcell.shape[0]])
-    p, nn = pts[pvert], normal[pinv]
-    mass = np.add.reduceat(p, starts, axis=0) / count[:, None]
-    ata = np.add.reduceat(nn[:, :, None] * nn[:, None, :], starts, axis=0)
-    dist = np.einsum("ij,ij->i", nn, p - mass[pcell])
-    atb = np.add.reduceat(nn * dist[:, None], starts, axis=0)
-    w, u = np.linalg.eigh(ata)
-    keep = w > EIGEN_CUTOFF * w[:, -1:]
-    rank = keep.sum(axis=1)
-    inv = np.where(keep, 1.0 / np.where(keep, w, 1.0), 0.0)
-    x = mass + np.einsum("nij,nj->ni", u, inv * np.einsum("nji,nj->ni", u, atb))
+    # (with the faces in each cell, most frequent first: the labels, and the surfaces to solve on; and
+    # the border of each cell's patch)
+    x, rank, labels, n_faces, b0, b1, bc, disc = _solve_cells(pts, f, tri, tcell, pvert, normal, pinv, starts,
+                                                              decider, EIGEN_CUTOFF)
     cell_lo = origin + (np.stack([cand // (s * s), (cand // s) % s, cand % s], axis=1) + lo) * h
-    # faces in each cell, most frequent first: the labels, and the surfaces to solve on
-    fkey = pcell * np.int64(len(ff.names) + 1) + vface[pvert]
-    fk, fcount = np.unique(fkey, return_counts=True)
-    fcell, fface = fk // (len(ff.names) + 1), fk % (len(ff.names) + 1)
-    order = np.lexsort((fface, -fcount, fcell))
-    fcell, fface = fcell[order], fface[order]
-    fstart = _runs(fcell)
-    n_faces = np.zeros(n_cells, np.int64)
-    n_faces[fcell[fstart]] = np.diff(np.r_[fstart, fcell.shape[0]])
-    slot = np.arange(fcell.shape[0]) - np.repeat(fstart, np.diff(np.r_[fstart, fcell.shape[0]]))
-    labels = np.full((n_cells, 3), -1, np.int64)
-    top = slot < 3
-    labels[fcell[top], slot[top]] = fface[top]
     feature = rank >= 2
     x = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
     margin = CELL_MARGIN * h
     x = np.clip(x, cell_lo + margin, cell_lo + h - margin)
 
     # -- 4./5. fans and flips, with the cells that fail handed back --------------------------
-    t_verts = f[tri]
+    feature &= disc           # cells whose patch is not one disc are left alone
     for _ in range(ROUNDS):
-        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x)
+        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x)
         bad = _facing_badly(newp, new_faces, exact, n)
         if not bad.any():
             break
@@ -231,24 +211,24 @@ def sharpen(solid, points, faces, origin, h):
         return plain
     drop = np.zeros(f.shape[0], np.bool_)
     drop[tri[feature[tcell]]] = True
-    out_faces, used = _assemble(f, drop, new_faces, newp.shape[0])
+    # the fans' two extra triangles each are taken back by collapsing a polygon vertex into the feature
+    # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
+    # corner of the fan that replaced the cell's triangles) is dropped
+    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n)
+    # the feature vertices come last, in the order of their cells
+    kept = used[n:]
+    n_plain = newp.shape[0] - int(kept.sum())
     frank = np.zeros(newp.shape[0], np.int8)
-    frank[n:] = np.minimum(rank[fan_cells], 3)
+    frank[n_plain:] = np.minimum(rank[fan_cells], 3)[kept]
     ffacets = np.full((newp.shape[0], 3), -1, np.int32)
     lab = labels[fan_cells]
     lab[np.arange(3)[None, :] >= np.maximum(rank[fan_cells], n_faces[fan_cells])[:, None]] = -1
-    ffacets[n:] = lab
-    # A vertex inside a cell's polygon (marching cubes' extra vertex of an ambiguous cube) is no
-    # corner of the fan that replaced the cell's triangles: drop the vertices no triangle uses.
-    if not used.all():
-        renumber = np.cumsum(used) - 1
-        out_faces = renumber[out_faces].astype(out_faces.dtype)
-        newp, frank, ffacets = newp[used], frank[used], ffacets[used]
+    ffacets[n_plain:] = lab[kept]
     return dict(points=newp, faces=out_faces, feature_rank=frank, feature_facets=ffacets,
                 facet_names=list(ff.names), feature_cells=int(fan_cells.shape[0]))
 
 
-def _off_flat_edges(solid, pts, faces, at_node, axis, origin, h):
+def _off_flat_edges(solid, pts, border, axis, origin, h):
     """Vertices at a lattice node whose lattice edge lies in a face, moved to where that face ends.
 
     On a face lying in a lattice plane the field is 0 along the lattice
@@ -262,7 +242,7 @@ def _off_flat_edges(solid, pts, faces, at_node, axis, origin, h):
     """
     from .arrays import ZERO_TIE
 
-    v = np.flatnonzero(_border_nodes(faces, at_node, axis))
+    v = np.flatnonzero(border)
     if v.shape[0] == 0:
         return pts, v
     tie = ZERO_TIE * h
@@ -378,48 +358,24 @@ def _newton(ff, q, idx, used, h, steps):
         fv = ff.facet_values(q)
         val = np.stack([fv[idx[:, j], r] for j in range(k)], axis=1) * used
         jac = ff.gradients_of(q, idx, 1e-6 * h) * used[:, :, None]
-        jj = jac @ np.swapaxes(jac, 1, 2) + np.where(used, 0.0, 1.0)[:, :, None] * np.eye(k)
-        ok = np.abs(np.linalg.det(jj)) > 1e-12
-        y = np.zeros((q.shape[0], k))
-        y[ok] = np.linalg.solve(jj[ok], val[ok][:, :, None])[:, :, 0]
-        q -= np.einsum("nji,nj->ni", jac, y)
+        _newton_step(q, jac, val, used)
     return q, jac
 
 
-def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x):
-    """Fans of the feature cells whose patch is one disc, and the flips between them.
+def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
+    """Fans of the feature cells (whose patch is one disc: `_cell_borders`), and the flips between them.
 
     Returns the new triangles, for each the cells it came from (two for a
     flipped pair, the second -1 otherwise) as ``owner`` (k, 2), and the cells
     that received a vertex (vertex ``n + i`` is cell ``fan_cells[i]``) and
-    the points with those vertices appended; ``feature`` is updated in place
-    (cells that are not one disc dropped).  A flip is made only where both
+    the points with those vertices appended.  A flip is made only where both
     of its triangles face their ordinary vertices' normals.
     """
-    sel = feature[tcell]
-    tv, tc = t_verts[sel], tcell[sel]
-    if tv.shape[0] == 0:
+    b0, b1, bc = borders
+    keep = feature[bc]
+    if not keep.any():
         return np.empty((0, 3), np.int64), np.empty((0, 2), np.int64), np.empty(0, np.int64), pts
-    # directed edges of the cells' triangles; an undirected edge met once in its cell is on the cell's border
-    e0 = tv.reshape(-1)
-    e1 = tv[:, [1, 2, 0]].reshape(-1)
-    ec = np.repeat(tc, 3)
-    und = np.minimum(e0, e1) * np.int64(n) + np.maximum(e0, e1)
-    order = np.lexsort((und, ec))
-    e0, e1, ec, und = e0[order], e1[order], ec[order], und[order]
-    st = np.flatnonzero(np.r_[True, (und[1:] != und[:-1]) | (ec[1:] != ec[:-1])])
-    runs = np.diff(np.r_[st, und.shape[0]])
-    border = st[runs == 1]
-    # one disc: V - E + F == 1, and as many border vertices as border edges (one simple loop)
-    n_e = np.bincount(ec[st], minlength=n_cells)
-    n_f = np.bincount(tc, minlength=n_cells)
-    n_v = _vertex_counts(tc, tv, n, n_cells)
-    n_b = np.bincount(ec[border], minlength=n_cells)
-    n_bv = np.bincount(np.unique(ec[border] * np.int64(n) + e0[border]) // n, minlength=n_cells)
-    disc = (n_v - n_e + n_f == 1) & (n_b == n_bv) & (n_b >= 3)
-    feature &= disc
-    keep = feature[ec[border]]
-    b0, b1, bc = e0[border][keep], e1[border][keep], ec[border][keep]
+    b0, b1, bc = b0[keep], b1[keep], bc[keep]
     fan_cells = np.flatnonzero(feature)
     vid = np.full(n_cells, -1, np.int64)
     vid[fan_cells] = n + np.arange(fan_cells.shape[0])
@@ -449,11 +405,6 @@ def _fans_and_flips(pts, exact, t_verts, tcell, feature, n, n_cells, x):
     owner[i] = both
     owner[j] = both
     return fan, owner, fan_cells, newp
-
-
-def _vertex_counts(tc, tv, n, n_cells):
-    """Distinct vertices of each cell's triangles."""
-    return np.bincount(np.unique(np.repeat(tc, 3) * np.int64(n) + tv.reshape(-1)) // n, minlength=n_cells)
 
 
 def _facing_badly(points, faces, exact, n):

@@ -79,8 +79,8 @@ PINNED = {
     "benchmark part N=72 block 8": ("82813a8bfc5a55f0", 71872),
     "plate with holes N=48": ("82827a2865586273", 5804),
     "smooth blobs N=36": ("f8be51919acac7d5", 5892),
-    "benchmark part N=40 features": ("42ede5081de96229", 25280),
-    "plate with holes N=48 features": ("2b9fa168c10179a9", 7080),
+    "benchmark part N=40 features": ("c3330a34c86d8230", 21700),
+    "plate with holes N=48 features": ("6a51e886d2edcbe5", 6052),
 }
 
 

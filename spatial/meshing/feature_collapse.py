@@ -1,0 +1,376 @@
+"""Fewer triangles from the sharp-feature fans: one vertex of each fanned cell taken by its feature vertex.
+
+A fan over a cell's polygon of ``b`` vertices has ``b`` triangles where
+marching cubes had ``b - 2``: two more per feature cell, a share of the mesh
+that falls as ``1/N`` (18 % more triangles on the benchmark part at N=40).
+Collapsing the edge from the feature vertex to the nearest vertex of its
+polygon removes that vertex and the two fan triangles beside it, so a fanned
+cell costs no triangle.  The feature vertex keeps its place (on the exact
+edge or corner); the polygon vertex moves there, and the triangles around it
+outside the cell follow.
+
+A collapse is made only where it keeps the mesh a closed oriented
+2-manifold and moves no triangle much:
+
+* the link condition: the feature vertex and the polygon vertex have
+  exactly two common neighbours (the two fan triangles of the edge);
+* collapses are made one after another on the mesh as the earlier ones left it
+  (a feature vertex takes one vertex at most), so each link condition is read
+  on the current mesh;
+* every triangle that moves keeps an area over a millionth of its longest
+  edge squared and turns by less than ``acos(cos_move)`` from where it was;
+* the vertex taken joins a vertex beyond the fans (of a face's plain mesh):
+  a speck made of fans alone could be turned inside out by collapses that
+  each turn its triangles little; and it joins no feature vertex the
+  feature vertex does not join already, so the edges between feature
+  vertices, the feature curves, are kept as the fans and flips made them.
+
+Cells are taken in order and, in each, the polygon's vertices nearest the
+feature vertex first: the result is deterministic.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+__all__ = ["collapse_fans", "finish"]
+
+#: A triangle moved by a collapse must keep ``cos > COS_MOVE`` between its new and old normals.
+COS_MOVE = 0.5
+
+
+def collapse_fans(points, faces, n, cos_move=COS_MOVE):
+    """Collapse, for each feature vertex (index ``>= n``), one ordinary neighbour into it.
+
+    Parameters
+    ----------
+    points : (p, 3) float
+        Vertices; those from `n` on are feature vertices.
+    faces : (m, 3) int
+        Closed oriented triangles over `points`.
+    n : int
+        Number of ordinary vertices.
+    cos_move : float
+
+    Returns
+    -------
+    faces : (m - 2 c, 3) int64
+        The triangles after ``c`` collapses, those without a feature vertex
+        first (the collapsed vertices no longer used; not renumbered).
+    collapsed : int
+        ``c``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.3, 0.3, 0.4]], float)
+    >>> # a tetrahedron whose face (1, 2, 3) is a fan around vertex 4, collapsed into a triangle again
+    >>> fan = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 4], [2, 3, 4], [3, 1, 4]])
+    >>> out, c = collapse_fans(pts, fan, 4)
+    >>> c, out.shape
+    (1, (4, 3))
+    """
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    new = (faces >= n).any(axis=1)
+    out, _, c, _ = finish(points, faces[~new], np.zeros(int((~new).sum()), np.bool_), faces[new], n,
+                          cos_move, renumber=False)
+    return out, c
+
+
+def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True):
+    """The feature mesh's triangles: `faces` not in `drop`, then `new_faces`, with the fans collapsed.
+
+    Parameters
+    ----------
+    points : (p, 3) float
+        Vertices; those from `n` on are the feature vertices of `new_faces`.
+    faces : (m, 3) int
+        Marching cubes' triangles (over the first `n` points).
+    drop : (m,) bool
+        The triangles the fans replace.
+    new_faces : (k, 3) int
+        The fans (and their flips).
+    n : int
+    cos_move : float
+    renumber : bool
+        Renumber the vertices to those used (in order).
+
+    Returns
+    -------
+    faces : (m', 3) int64
+    used : (p,) bool
+        The points the triangles use (the vertices taken by a collapse, and
+        marching cubes' inner vertices of the fanned cells, are not).
+    collapsed : int
+    points : (p', 3) float
+        The points used (all of them when not renumbering).
+    """
+    f = np.ascontiguousarray(faces)
+    if f.dtype not in (np.int32, np.int64):
+        f = f.astype(np.int64)
+    new = np.ascontiguousarray(new_faces, dtype=np.int64).reshape(-1, 3)
+    return _finish(np.ascontiguousarray(points, dtype=np.float64), f, np.ascontiguousarray(drop, dtype=np.bool_),
+                   new, np.int64(n), float(cos_move), bool(renumber))
+
+
+@numba.njit(cache=True, nogil=True)
+def _normal(p, a, b, c, ax, ay, az):
+    """Cross product of the triangle (a, b, c) with vertex `a` placed at (ax, ay, az)."""
+    ux = p[b, 0] - ax; uy = p[b, 1] - ay; uz = p[b, 2] - az
+    vx = p[c, 0] - ax; vy = p[c, 1] - ay; vz = p[c, 2] - az
+    return uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+
+
+@numba.njit(cache=True, nogil=True)
+def _finish(p, f, drop, new, n, cos_move, renumber):
+    m = f.shape[0]
+    n_p = p.shape[0]
+    # the vertices near the fans (those of the new triangles) and every triangle around them, local
+    near = np.zeros(n_p, np.bool_)
+    for t in range(new.shape[0]):
+        for j in range(3):
+            near[new[t, j]] = True
+    # one pass: the triangles kept beside the fans (gathered), and the vertices of the replaced triangles
+    # on no new one (inner vertices of a cell's patch, whose whole star was replaced) marked unused
+    used = np.ones(n_p, np.bool_)
+    source = np.empty(max(16, new.shape[0]), np.int64)
+    n_near = 0
+    n_kept = 0
+    for t in range(m):
+        a, b, c = f[t, 0], f[t, 1], f[t, 2]
+        if drop[t]:
+            if not near[a]:
+                used[a] = False
+            if not near[b]:
+                used[b] = False
+            if not near[c]:
+                used[c] = False
+            continue
+        n_kept += 1
+        if near[a] or near[b] or near[c]:
+            if n_near == source.shape[0]:
+                grown = np.empty(2 * n_near, np.int64)
+                grown[:n_near] = source
+                source = grown
+            source[n_near] = t
+            n_near += 1
+    k = n_near + new.shape[0]
+    faces = np.empty((k, 3), np.int64)
+    for r in range(n_near):
+        for j in range(3):
+            faces[r, j] = f[source[r], j]
+    r = n_near
+    for t in range(new.shape[0]):
+        for j in range(3):
+            faces[r, j] = new[t, j]
+        r += 1
+    into, dropped, c = _collapse(p, faces, n, near, cos_move)
+    for v in range(n_p):
+        if into[v] != v:
+            used[v] = False
+    index = np.arange(n_p)
+    if renumber:
+        q = 0
+        for v in range(n_p):
+            index[v] = q
+            q += used[v]
+    out = np.empty((n_kept + new.shape[0] - 2 * c, 3), np.int64)
+    r = 0
+    s = 0     # next local triangle that came from `f`
+    for t in range(m):
+        if drop[t]:
+            continue
+        if s < n_near and source[s] == t:
+            if not dropped[s]:
+                for j in range(3):
+                    out[r, j] = index[into[faces[s, j]]]
+                r += 1
+            s += 1
+        else:
+            for j in range(3):
+                out[r, j] = index[f[t, j]]
+            r += 1
+    for s in range(n_near, k):
+        if not dropped[s]:
+            for j in range(3):
+                out[r, j] = index[into[faces[s, j]]]
+            r += 1
+    # the points used, in order (all of them when not renumbering)
+    n_used = 0
+    for v in range(n_p):
+        n_used += used[v] or not renumber
+    pout = np.empty((n_used, 3))
+    q = 0
+    for v in range(n_p):
+        if used[v] or not renumber:
+            pout[q, 0] = p[v, 0]; pout[q, 1] = p[v, 1]; pout[q, 2] = p[v, 2]
+            q += 1
+    return out, used, c, pout
+
+
+@numba.njit(cache=True, nogil=True)
+def _collapse(p, faces, n, near, cos_move):
+    """Collapses on the local triangles `faces`: the vertex each point went into, the triangles dropped."""
+    m = faces.shape[0]
+    n_p = p.shape[0]
+    start = np.zeros(n_p + 1, np.int64)
+    for t in range(m):
+        for j in range(3):
+            if near[faces[t, j]]:
+                start[faces[t, j] + 1] += 1
+    for v in range(n_p):
+        start[v + 1] += start[v]
+    fill = start[:-1].copy()
+    star = np.empty(start[n_p], np.int64)
+    for t in range(m):
+        for j in range(3):
+            v = faces[t, j]
+            if near[v]:
+                star[fill[v]] = t
+                fill[v] += 1
+    # the mesh as it is after the collapses made so far: a collapsed vertex is read as the feature
+    # vertex it went into (a feature vertex takes one at most), dropped triangles are skipped
+    into = np.arange(n_p)
+    dropped = np.zeros(m, np.bool_)
+    tri = np.empty(128, np.int64)
+    ring = np.empty(64, np.int64)
+    dist = np.empty(64)
+    c = 0
+    for fv in range(n, n_p):
+        # ordinary neighbours of the feature vertex, nearest first
+        k = 0
+        n_t = _live_star(star, start, dropped, fv, tri)
+        for q in range(n_t):
+            t = tri[q]
+            for j in range(3):
+                w = into[faces[t, j]]
+                if w < n:
+                    dup = False
+                    for i in range(k):
+                        if ring[i] == w:
+                            dup = True
+                            break
+                    if not dup and k < ring.shape[0]:
+                        d = 0.0
+                        for a in range(3):
+                            d += (p[w, a] - p[fv, a]) ** 2
+                        i = k
+                        while i > 0 and (dist[i - 1] > d or (dist[i - 1] == d and ring[i - 1] > w)):
+                            ring[i] = ring[i - 1]
+                            dist[i] = dist[i - 1]
+                            i -= 1
+                        ring[i] = w
+                        dist[i] = d
+                        k += 1
+        for i in range(k):
+            v = ring[i]
+            if _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move):
+                n_t = _live_star(star, start, dropped, v, tri)
+                for q in range(n_t):
+                    t = tri[q]
+                    if into[faces[t, 0]] == fv or into[faces[t, 1]] == fv or into[faces[t, 2]] == fv:
+                        dropped[t] = True
+                into[v] = fv
+                c += 1
+                break
+    return into, dropped, c
+
+
+@numba.njit(cache=True, nogil=True)
+def _live_star(star, start, dropped, x, out):
+    """The triangles around vertex `x` not dropped.  (Only stars of vertices not collapsed and of feature
+    vertices not yet given one are read: those are their first stars less the dropped triangles.)"""
+    k = 0
+    for q in range(start[x], start[x + 1]):
+        t = star[q]
+        if not dropped[t] and k < out.shape[0]:
+            out[k] = t
+            k += 1
+    return k
+
+
+@numba.njit(cache=True, nogil=True)
+def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move):
+    """Whether moving `v` onto the feature vertex `fv` (and dropping their two triangles) is safe."""
+    tv = np.empty(128, np.int64)
+    tf = np.empty(128, np.int64)
+    n_v = _live_star(star, start, dropped, v, tv)
+    n_f = _live_star(star, start, dropped, fv, tf)
+    # `v` must join a vertex beyond the fans (a face's plain mesh: a speck made of fans alone can be
+    # turned inside out by collapses that each turn its triangles little); and no feature vertex that
+    # `fv` does not join already, so that the edges between feature vertices (the feature curves) stay
+    # as the fans and flips made them
+    beyond = False
+    for q in range(n_v):
+        t = tv[q]
+        for j in range(3):
+            w = into[faces[t, j]]
+            if not near[w]:
+                beyond = True
+            if w >= n and w != fv:
+                joined = False
+                for s in range(n_f):
+                    u = tf[s]
+                    if into[faces[u, 0]] == w or into[faces[u, 1]] == w or into[faces[u, 2]] == w:
+                        joined = True
+                        break
+                if not joined:
+                    return False
+    if not beyond:
+        return False
+    # the link condition: exactly two triangles hold the edge, and the two ends share no other neighbour
+    shared = 0
+    for q in range(n_v):
+        t = tv[q]
+        if into[faces[t, 0]] == fv or into[faces[t, 1]] == fv or into[faces[t, 2]] == fv:
+            shared += 1
+    if shared != 2:
+        return False
+    common = np.empty(16, np.int64)
+    n_common = 0
+    for q in range(n_v):
+        t = tv[q]
+        for j in range(3):
+            w = into[faces[t, j]]
+            if w == v or w == fv:
+                continue
+            hit = False
+            for s in range(n_f):
+                u = tf[s]
+                if into[faces[u, 0]] == w or into[faces[u, 1]] == w or into[faces[u, 2]] == w:
+                    hit = True
+                    break
+            if hit:
+                new = True
+                for i in range(n_common):
+                    if common[i] == w:
+                        new = False
+                if new:
+                    if n_common == common.shape[0]:
+                        return False
+                    common[n_common] = w
+                    n_common += 1
+    if n_common != 2:
+        return False
+    # every triangle that moves stays a triangle and turns little
+    x0, x1, x2 = p[fv, 0], p[fv, 1], p[fv, 2]
+    for q in range(n_v):
+        t = tv[q]
+        j = 0
+        while into[faces[t, j]] != v:
+            j += 1
+        a, b, c = v, into[faces[t, (j + 1) % 3]], into[faces[t, (j + 2) % 3]]
+        if b == fv or c == fv:
+            continue
+        ox, oy, oz = _normal(p, a, b, c, p[v, 0], p[v, 1], p[v, 2])
+        nx, ny, nz = _normal(p, a, b, c, x0, x1, x2)
+        area = np.sqrt(nx * nx + ny * ny + nz * nz)
+        old = np.sqrt(ox * ox + oy * oy + oz * oz)
+        e_bc = (p[b, 0] - p[c, 0]) ** 2 + (p[b, 1] - p[c, 1]) ** 2 + (p[b, 2] - p[c, 2]) ** 2
+        e_b = (p[b, 0] - x0) ** 2 + (p[b, 1] - x1) ** 2 + (p[b, 2] - x2) ** 2
+        e_c = (p[c, 0] - x0) ** 2 + (p[c, 1] - x1) ** 2 + (p[c, 2] - x2) ** 2
+        e = max(e_bc, e_b, e_c)
+        if not area > 1e-6 * e or not (nx * ox + ny * oy + nz * oz) > cos_move * area * old:
+            return False
+    return True
