@@ -39,6 +39,7 @@ def run_bricks(client, function, spec, bricks, *, progress=None, extra=None, nam
         bar = threading.Thread(target=dask_progress, args=(marks,), kwargs=dict(multi=False, complete=False),
                                daemon=True)
         bar.start()
+    finished = False
     try:
         for future in as_completed(futures):
             i = index[future.key]
@@ -46,13 +47,23 @@ def run_bricks(client, function, spec, bricks, *, progress=None, extra=None, nam
             futures[i] = None
             future.release()
             yield i, result
+        finished = True
     finally:
         for f in futures:
             if f is not None:
                 f.cancel()
+        if finished and marks:
+            # Every brick is read, but its mark may still be queued behind it on a loaded machine: let the
+            # marks finish so that the bar ends at 100 %, not on a cancellation.
+            from distributed import wait
+
+            try:
+                wait(marks, timeout=60)
+            except TimeoutError:
+                pass  # the marks only feed the bar; the results are complete
         for m in marks:
             if not m.done():
-                m.cancel()  # (an error above): the bar stops on a cancelled mark
+                m.cancel()  # (an error above, or a mark stuck past the wait): the bar stops on it
         if bar is not None:
             bar.join(timeout=60)  # every mark is done or cancelled: the bar ends
         for m in marks:
