@@ -63,6 +63,8 @@ LOST_VOXELS = 2.0
 #: Largest box of cells of edge 2h around the shell whose known values are held in a grid (else
 #: they are sorted and searched).
 DENSE_CELLS = 1 << 25
+#: Centre values within ``TIE * h`` of 0 are ties (as `spatial.meshing.arrays.ZERO_TIE`).
+TIE = 1e-7
 #: Value standing for a uniform cell's (beyond any boundary cell's value).
 _FAR = 1e30
 
@@ -81,9 +83,9 @@ class LostFeature:
     count: int = 1
 
     def describe(self) -> str:
-        """One phrase naming the feature: ``'a speck 0.02 thick, 0.05 across, of ... near (x, y, z)'``."""
+        """One phrase naming the feature: ``'a thin piece of material 0.02 thick, 0.05 across, bounded by ... near (x, y, z)'``."""
         where = ", ".join(f"{v:.4g}" for v in self.at)
-        what = "a speck of material" if self.kind == "material" else "a gap"
+        what = "a thin piece of material" if self.kind == "material" else "a thin gap"
         who = f" bounded by {self.between}" if self.between else ""
         more = f" (and {self.count - 1} more)" if self.count > 1 else ""
         return f"{what} {self.thickness:.3g} thick, {self.extent:.3g} across,{who} near ({where}){more}"
@@ -126,6 +128,9 @@ def lost_feature(solid, origin, h, cells, centres, *, uniform=None, uniform_pare
     if not (math.isfinite(lip) and lip > 0):
         lip = 1.0
     cand, side = _candidates(solid, origin, h, cells, centres, uniform, uniform_parents)
+    # a centre on the level up to rounding is a tie (the face two touching solids share, settled
+    # inside by the mesher): no feature
+    cand, side = cand[np.abs(centres[cand]) > TIE * h], side[np.abs(centres[cand]) > TIE * h]
     if cand.size == 0:
         return None
     # the shallowest first: a feature the lattice loses lies closest to the level
@@ -303,9 +308,15 @@ def _measure(solid, centre_pts, side, h, lip, name_by):
     # beyond a block's faces is unknown, not outside
     inside = g < 0
     edt = ndimage.distance_transform_edt(inside, sampling=(1e9, 1.0, 1.0, 1.0))
-    flat = edt.reshape(edt.shape[0], -1)
+    # a region whose deepest sample lies on the block's faces goes on beyond them (the outside beside
+    # a face the block straddles, the material under it): its thickness is not measured here
+    core = edt[:, 1:-1, 1:-1, 1:-1]
+    cut = edt.reshape(edt.shape[0], -1).max(axis=1) > core.reshape(core.shape[0], -1).max(axis=1)
+    flat = core.reshape(core.shape[0], -1)
     deepest = np.argmax(flat, axis=1)
-    thick = (2 * flat[np.arange(flat.shape[0]), deepest] - 1) * steps
+    thick = np.where(cut, np.inf, (2 * flat[np.arange(flat.shape[0]), deepest] - 1) * steps)
+    m = n - 2
+    deepest = np.ravel_multi_index(np.unravel_index(deepest, (m, m, m)), (n, n, n)) + (n * n + n + 1)
     # its extent: the longest side of the box of its samples inside
     span = np.zeros(g.shape[0])
     for ax in (1, 2, 3):
