@@ -72,8 +72,9 @@ _FAR = 1e30
 @dataclass(frozen=True)
 class LostFeature:
     """The thinnest feature the lattice may lose: `kind` ('material' or 'gap'), `thickness`, its
-    `extent` across, a point `at` inside it, the facets `between` that bound it, and `count`, the
-    candidates found thinner than two voxels."""
+    `extent` across, a point `at` inside it, the facets `between` that bound it, `count`, the
+    candidates found thinner than two voxels, and the `resolution` of the measurement (the fine
+    samples' spacing: the thickness is known to within it)."""
 
     kind: str
     thickness: float
@@ -81,6 +82,7 @@ class LostFeature:
     at: tuple
     between: str
     count: int = 1
+    resolution: float = 0.0
 
     def describe(self) -> str:
         """One phrase naming the feature: ``'a thin piece of material 0.02 thick, 0.05 across, bounded by ... near (x, y, z)'``."""
@@ -324,14 +326,19 @@ def _measure(solid, centre_pts, side, h, lip, name_by):
         first = np.argmax(any_ax, axis=1)
         last = any_ax.shape[1] - 1 - np.argmax(any_ax[:, ::-1], axis=1)
         span = np.maximum(span, (last - first + 1) * steps)
-    lost = thick < LOST_VOXELS * h
+    # lost only when thinner than two voxels whatever the rounding of the samples: the deepest
+    # sample lies up to half a step's diagonal off the feature's middle, the nearest sample outside
+    # up to a step beyond the surface
+    res = (1 + math.sqrt(3)) * steps
+    lost = thick + res < LOST_VOXELS * h
     if not lost.any():
         return None
     k = np.flatnonzero(lost)
     best = k[np.argmin(thick[k])]
     at = centre_pts[best] + off[deepest[best]] * (steps[best] / step)
     return LostFeature("material" if side[best] > 0 else "gap", float(thick[best]), float(span[best]),
-                       tuple(float(v) for v in at), _bounded_by(name_by, at, thick[best]), int(k.size))
+                       tuple(float(v) for v in at), _bounded_by(name_by, at, thick[best]), int(k.size),
+                       float(res[best]))
 
 
 def _bounded_by(solid, at, thick):
@@ -366,7 +373,8 @@ def warn_lost(solid, origin, h, found, announced=None, *, name_by=None, stacklev
 
     feat = lost_feature(solid, origin, h, found["cells"], found["centres"], uniform=found.get("uniform"),
                         uniform_parents=found.get("uniform_parents"), name_by=name_by)
-    if feat is None or (announced is not None and feat.keep_voxel() >= announced):
+    # a feature no thinner, to the measurement's resolution, than the wall announced: told already
+    if feat is None or (announced is not None and (feat.thickness + feat.resolution) / 4 >= announced):
         return None
     warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half {feat.describe()}; the feature may be lost; "
                   f"voxel_size={feat.keep_voxel():.4g} keeps it", RuntimeWarning, stacklevel=stacklevel + 1)
