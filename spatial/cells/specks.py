@@ -65,6 +65,8 @@ LOST_VOXELS = 2.0
 DENSE_CELLS = 1 << 25
 #: Centre values within ``TIE * h`` of 0 are ties (as `spatial.meshing.arrays.ZERO_TIE`).
 TIE = 1e-7
+#: Marks a neighbour of unknown value asked for (above any value or `_FAR`, until written).
+_MARK = 3e38
 #: Value standing for a uniform cell's (beyond any boundary cell's value).
 _FAR = 1e30
 
@@ -147,46 +149,39 @@ def _candidates(solid, origin, h, cells, centres, uniform, uniform_parents):
     of its 26 neighbours'.
 
     The values known -- the BOUNDARY cells' centres, the signs of the uniform cells of edge 2h and
-    4h as ``+-_FAR`` -- fill a grid over the shell's box (`_dense_candidates`, compiled: a pass over
-    the cells, none over the box but its allocation) or, for a box too large to hold, are sorted
-    and searched (`_sorted_candidates`).  A neighbour of unknown sign (inside a uniform cell larger
-    than ``4h``) is sampled.
+    4h as ``+-_FAR`` -- fill a grid over the shell's box (compiled: a pass over the cells, none over
+    the box but its allocation) or, for a box too large to hold, are sorted and searched
+    (`_sorted_candidates`).  A neighbour of unknown sign (inside a uniform cell larger than ``4h``)
+    is sampled.
     """
-    c = cells.astype(np.int64)
-    lo = c.min(axis=0) - 1
-    dims = c.max(axis=0) + 2 - lo
-    run = _dense_candidates if int(np.prod(dims)) <= DENSE_CELLS else _sorted_candidates
-    return run(solid, origin, h, c - lo, centres, uniform, uniform_parents, lo, dims)
-
-
-def _dense_candidates(solid, origin, h, c, centres, uniform, uniform_parents, lo, dims):
     from . import specks_kernels as K
 
+    lo, hi = K.box(cells)
     # the box starts on an even cell, so that a parent of edge 4h maps to whole children
-    pad = lo % 2
-    lo, c, dims = lo - pad, c + pad, dims + pad
-    dims_i = dims.astype(np.int64)
+    lo = lo - 1 - (lo - 1) % 2
+    dims = hi + 2 - lo
+    if int(np.prod(dims)) > DENSE_CELLS:
+        c = cells.astype(np.int64) - lo
+        return _sorted_candidates(solid, origin, h, c, centres, uniform, uniform_parents, lo, dims)
     grid = np.full(int(np.prod(dims)), np.nan, dtype=np.float32)
-    if uniform_parents is not None and len(uniform_parents[0]):
-        K.fill(grid, dims_i, np.asarray(uniform_parents[0], dtype=np.int64) - lo // 2,
-               np.asarray(uniform_parents[1], dtype=np.int8), 2, np.float32(_FAR))
-    if uniform is not None and len(uniform[0]):
-        K.fill(grid, dims_i, np.asarray(uniform[0], dtype=np.int64) - lo, np.asarray(uniform[1], dtype=np.int8),
-               1, np.float32(_FAR))
-    K.put(grid, dims_i, c, centres)
+    shift = -lo
+    for u, k in ((uniform_parents, 2), (uniform, 1)):
+        if u is not None and len(u[0]):
+            K.fill(grid, dims, u[0], u[1], k, shift, np.float32(_FAR))
+    # the cells' own values as float32 too, so that a tie stays a tie
+    K.put(grid, dims, cells, shift, centres)
     s0, s1 = int(dims[1] * dims[2]), int(dims[2])
     offs = _offsets()
     deltas = (offs[:, 0] * s0 + offs[:, 1] * s1 + offs[:, 2]).astype(np.int64)
-    which = np.arange(c.shape[0], dtype=np.int64)
-    status = K.extrema(grid, dims_i, c, which, deltas)
-    open_ = np.flatnonzero(status == 2)
-    if open_.size:
-        # neighbours of unknown sign: sampled, then those cells decided again
-        fq = ((c[open_, 0] * s0 + c[open_, 1] * s1 + c[open_, 2])[:, None] + deltas[None]).ravel()
-        fq = np.unique(fq[np.isnan(grid[fq])])
-        q = np.stack([fq // s0, (fq // s1) % dims[1], fq % s1], axis=1)
-        K.put(grid, dims_i, q, np.asarray(solid(origin + (2 * (q + lo) + 1) * h), dtype=np.float64))
-        status[open_] = K.extrema(grid, dims_i, c, open_.astype(np.int64), deltas)
+    which = np.arange(cells.shape[0], dtype=np.int64)
+    mark = np.float32(_MARK)
+    status, ask = K.extrema(grid, dims, cells, shift, which, deltas, mark)
+    if ask.size:
+        # neighbours of unknown sign: sampled, then the undecided cells decided again
+        q = np.stack([ask // s0, (ask // s1) % dims[1], ask % s1], axis=1)
+        K.put_flat(grid, ask, np.asarray(solid(origin + (2 * (q + lo) + 1) * h), dtype=np.float32))
+        again = np.flatnonzero(status == 2).astype(np.int64)
+        status[again] = K.extrema(grid, dims, cells, shift, again, deltas, mark)[0]
     is_min, is_max = np.flatnonzero(status == 1), np.flatnonzero(status == -1)
     return (np.concatenate([is_min, is_max]),
             np.concatenate([np.ones(is_min.size, np.int8), -np.ones(is_max.size, np.int8)]))
