@@ -12,7 +12,8 @@ the lattice's own error, at most half a voxel of thickness over the surface
 the surface; refined vertices are on it, so the true error is far smaller).
 
 A mesh that lost volume is judged by what the mesher said.  When it warned
-of a wall thinner than two voxels (``the wall may be lost``) or found no
+of a wall thinner than two voxels (``the wall may be lost``), of a speck,
+sliver or gap thinner than two voxels (``the feature may be lost``) or found no
 surface at all (``no surface crosses the sampled nodes``), the loss is
 the one announced if the mesh still holds all the material deeper than a
 voxel (``-f >= L h``: every lattice line through such material has a node
@@ -36,9 +37,10 @@ MC_POINTS = 20000
 FEATURES = None
 
 
-#: What the mesher says when it may lose a feature: a wall thinner than two voxels, or a part so
-#: small that no lattice node falls inside it.
-ANNOUNCED = ("the wall may be lost", "no surface crosses the sampled nodes")
+#: What the mesher says when it may lose a feature: a wall thinner than two voxels, a speck, sliver
+#: or gap thinner than two voxels (`spatial.cells.specks`), or a part so small that no lattice node
+#: falls inside it.
+ANNOUNCED = ("the wall may be lost", "the feature may be lost", "no surface crosses the sampled nodes")
 #: Kinds that are findings, not invalid meshes.
 NOT_INVALID = ("volume", "thin feature lost", "thin feature warned")
 

@@ -217,7 +217,8 @@ def default_voxel_size(solid, bounds=None):
 
 
 def min_feature_size(solid) -> float:
-    """Thickness of the thinnest wall of `solid`: the tree's, else the sampled estimate.
+    """Thickness of the thinnest wall of `solid`: the tree's or the one measured on its field, else
+    the sampled estimate.
 
     Parameters
     ----------
@@ -227,15 +228,20 @@ def min_feature_size(solid) -> float:
     Returns
     -------
     float
-        A length > 0: `thinnest_wall` of the tree (its smallest primitive size,
-        transforms and offsets applied), or `sampled_thickness` when the tree
-        tells nothing; never more than the smallest side of the solid's bounds.
+        A length > 0: the thinner of `thinnest_wall` of the tree (its smallest
+        primitive size, transforms and offsets applied) and the thinnest wall
+        measured on the field (`spatial.cells.walls.thin_wall`: a wall a
+        Boolean, an offset or a blend thinned, which the tree cannot tell),
+        or `sampled_thickness` when neither tells anything; never more than
+        the smallest side of the solid's bounds.
 
     Examples
     --------
     >>> from implicit import box, sphere
     >>> min_feature_size(box((100.0, 100.0, 1.0)) | sphere(3.0))
     1.0
+    >>> round(min_feature_size(box(10) - box(10, center=(0.05, 0, 0))), 4)   # a wall the tree calls 10
+    0.05
     """
     from implicit import Solid
 
@@ -243,7 +249,12 @@ def min_feature_size(solid) -> float:
         raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
     if not solid.is_bounded or solid.is_empty_bounds:
         raise ValueError("solid: expected a bounded solid with non-empty bounds")
+    from .walls import thin_wall
+
     t = float(thinnest_wall(solid)[0])
+    w = thin_wall(solid)
+    if w is not None and w.thickness > 0:
+        t = min(t, float(w.thickness))
     if not (np.isfinite(t) and t > 0):
         t = float(sampled_thickness(solid))
     lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)

@@ -125,13 +125,17 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
             raise TypeError(f"solid: expected an implicit.Solid, got {type(solid).__name__}")
         voxel_size = default_voxel_size(solid, bounds)
     lattice = make_lattice(solid, voxel_size=voxel_size, resolution=resolution, bounds=bounds)
-    _warn_thin(lattice.solid, lattice.voxel_size, lattice.bounds)
+    announced = _warn_thin(lattice.solid, lattice.voxel_size, lattice.bounds)
     if lattice.empty:
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
     check_mesh_memory(lattice.bounds, lattice.voxel_size)     # refuse before allocating (cells.budget)
     found = _boundary_cells_2h(lattice, progress)
+    if found["centres"] is not None:
+        from ..cells.specks import warn_lost
+
+        warn_lost(lattice.solid, lattice.origin, lattice.voxel_size, found, announced, name_by=solid, stacklevel=3)
     # popped, so that mesh_cells can release them once used
     return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, found.pop("cells"), cell_size=2,
                       refine=refine, progress=progress, evaluations=found["evaluations"], block=block,
@@ -143,13 +147,14 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
 def _warn_thin(solid, h, bounds=None):
     """One line when the voxel is coarser than half the thinnest wall (it may be lost): the tree's
     (its primitives' sizes), else the one measured on the field (`spatial.cells.walls`: a wall
-    thinned by a Boolean, an offset or a blend), named by its faces' facets and a point on it."""
+    thinned by a Boolean, an offset or a blend), named by its faces' facets and a point on it.
+    Returns the voxel size it told to keep the wall, or None."""
     t, what = thinnest_wall(solid)
     if np.isfinite(t) and h > t / 2:
         warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half the thinnest wall ({what}: {t:.4g}); "
                       f"the wall may be lost; voxel_size={t / WALL_VOXELS:.4g} keeps it", RuntimeWarning,
                       stacklevel=3)
-        return
+        return t / WALL_VOXELS
     from ..cells.walls import thin_wall
 
     w = thin_wall(solid, bounds=bounds)
@@ -157,6 +162,8 @@ def _warn_thin(solid, h, bounds=None):
         warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half {w.describe()}; the wall may be "
                       f"lost; voxel_size={w.thickness / WALL_VOXELS:.4g} keeps it", RuntimeWarning,
                       stacklevel=3)
+        return w.thickness / WALL_VOXELS
+    return None
 
 
 def _boundary_cells_2h(lattice, progress, start=None):

@@ -1,0 +1,375 @@
+"""Features the lattice may lose, whatever their shape: specks, slivers, knife edges, thin gaps.
+
+`spatial.cells.walls` measures walls between parallel faces; a speck left by
+an intersection, the sliver of a knife edge or a gap closed by an offset has
+no such faces.  What every lost feature has is a local extremum of the field
+near the surface: the field of a part thick enough for the lattice falls
+from any sample near its surface towards the inside, so among the samples a
+shallow local minimum (``f`` no larger than at any neighbour) is a place
+where material ends on every side within a few voxels -- a speck, a sliver,
+the tip of a knife edge -- and a shallow local maximum a gap closed on every
+side.  `lost_feature` finds them at surface cost:
+
+1. the octree's classification already sampled the centres of the BOUNDARY
+   cells of edge ``2h`` (lattice nodes, every one within reach of the
+   surface) and knows the sign of the uniform cells around them; a BOUNDARY
+   cell whose centre value is a minimum (or maximum) of its 26 neighbours'
+   is a candidate -- the neighbours are read for the cells still in the
+   running only (the six faces rule out nearly every cell of a smooth
+   surface), no evaluation but for a neighbour of unknown sign, inside a
+   uniform cell larger than ``4h``;
+2. around each candidate (the `MAX_CANDIDATES` shallowest) the field is
+   sampled on a grid `FINER` times finer than the lattice over ``4h`` a
+   side; the feature's thickness is twice the largest distance from a fine
+   sample inside it to one outside (a Euclidean distance transform: the
+   field's values need not be distances) and its extent the span of its
+   fine samples inside;
+3. a feature thinner than two voxels (the rule of the walls) may be lost:
+   it is named by the facets nearest its deepest point
+   (`implicit.facets.FacetField`) with the voxel that keeps it, a quarter of
+   its thickness (`WALL_VOXELS`).
+
+A candidate whose fine samples hold no material (a feature thinner than a
+fine step, or none) is sampled once more `FINER` times finer about its
+smallest sample.
+
+Examples
+--------
+Two plates 0.015 thick cut out of a box and the rest taken from a block
+leave two gaps in the material that neither the tree nor the walls know:
+
+>>> import warnings
+>>> from implicit import box
+>>> from spatial import mesh
+>>> part = box(2.0) - (box(1.0, center=(0.01, 0, 0)) - box((1.2, 1.2, 0.97), center=(0.01, 0, 0)))
+>>> with warnings.catch_warnings(record=True) as said:
+...     warnings.simplefilter("always")
+...     m = mesh(part, voxel_size=0.05, progress=False)
+>>> ["a thin gap" in str(w.message) for w in said]
+[True]
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["LostFeature", "lost_feature", "FINER", "MAX_CANDIDATES"]
+
+#: Fine samples per voxel around a candidate.
+FINER = 4
+#: Candidates sampled finely (the shallowest; a lost feature is rarely one of many far apart).
+MAX_CANDIDATES = 48
+#: A feature thinner than this many voxels may be lost (the walls' rule: coarser than half of it).
+LOST_VOXELS = 2.0
+#: Largest box of cells of edge 2h around the shell whose known values are held in a grid (else
+#: they are sorted and searched).
+DENSE_CELLS = 1 << 25
+#: Marks a neighbour of unknown value asked for (above any value or `_FAR`, until written).
+_MARK = 3e38
+#: Value standing for a uniform cell's (beyond any boundary cell's value).
+_FAR = 1e30
+
+
+@dataclass(frozen=True)
+class LostFeature:
+    """The thinnest feature the lattice may lose: `kind` ('material' or 'gap'), `thickness`, its
+    `extent` across, a point `at` inside it, the facets `between` that bound it, `count`, the
+    candidates found thinner than two voxels, and the `resolution` of the measurement (the fine
+    samples' spacing: the thickness is known to within it)."""
+
+    kind: str
+    thickness: float
+    extent: float
+    at: tuple
+    between: str
+    count: int = 1
+    resolution: float = 0.0
+
+    def describe(self) -> str:
+        """One phrase naming the feature: ``'a thin piece of material 0.02 thick, 0.05 across, bounded by ... near (x, y, z)'``."""
+        where = ", ".join(f"{v:.4g}" for v in self.at)
+        what = "a thin piece of material" if self.kind == "material" else "a thin gap"
+        who = f" bounded by {self.between}" if self.between else ""
+        more = f" (and {self.count - 1} more)" if self.count > 1 else ""
+        return f"{what} {self.thickness:.3g} thick, {self.extent:.3g} across,{who} near ({where}){more}"
+
+    def keep_voxel(self, voxels=4):
+        """The voxel size that keeps the feature: `voxels` through its thickness."""
+        return self.thickness / voxels
+
+
+def lost_feature(solid, origin, h, cells, centres, *, uniform=None, uniform_parents=None, name_by=None):
+    """The thinnest feature under two voxels the lattice may lose (see the module notes), or None.
+
+    Parameters
+    ----------
+    solid : Solid
+        The solid meshed (its field is sampled around the candidates).
+    origin : (3,) float
+        The lattice's origin; cell ``c`` of edge ``2h`` has its centre at ``origin + (2c + 1) h``.
+    h : float
+        The voxel size.
+    cells : (m, 3) int
+        The BOUNDARY cells of edge ``2h``.
+    centres : (m,) float
+        The field at their centres.
+    uniform, uniform_parents : ((k, 3) int, (k,) int8), optional
+        The uniform cells of edge ``2h`` and ``4h`` found around them, with their signs.
+    name_by : Solid, optional
+        The solid whose facets name the feature (default `solid`).
+
+    Returns
+    -------
+    LostFeature or None
+    """
+    cells = np.asarray(cells)
+    centres = np.asarray(centres, dtype=np.float64)
+    if cells.shape[0] == 0 or centres.shape[0] != cells.shape[0]:
+        return None
+    origin = np.asarray(origin, dtype=np.float64)
+    lip = float(getattr(solid, "lipschitz", 1.0) or 1.0)
+    if not (math.isfinite(lip) and lip > 0):
+        lip = 1.0
+    cand, side = _candidates(solid, origin, h, cells, centres, uniform, uniform_parents)
+    if cand.size == 0:
+        return None
+    # the shallowest first: a feature the lattice loses lies closest to the level
+    order = np.argsort(np.abs(centres[cand]), kind="stable")[:MAX_CANDIDATES]
+    cand, side = cand[order], side[order]
+    centre_pts = origin + (2 * cells[cand].astype(np.float64) + 1) * h
+    return _measure(solid, centre_pts, side, h, lip, solid if name_by is None else name_by)
+
+
+def _candidates(solid, origin, h, cells, centres, uniform, uniform_parents):
+    """Indices of the BOUNDARY cells whose centre value is a minimum (side +1) or maximum (side -1)
+    of its 26 neighbours'.
+
+    The values known -- the BOUNDARY cells' centres, the signs of the uniform cells of edge 2h and
+    4h as ``+-_FAR`` -- fill a grid over the shell's box (compiled: a pass over the cells, none over
+    the box but its allocation) or, for a box too large to hold, are sorted and searched
+    (`_sorted_candidates`).  A neighbour of unknown sign (inside a uniform cell larger than ``4h``)
+    is sampled.
+    """
+    from . import specks_kernels as K
+
+    lo, hi = K.box(cells)
+    # the box starts on an even cell, so that a parent of edge 4h maps to whole children
+    lo = lo - 1 - (lo - 1) % 2
+    dims = hi + 2 - lo
+    if int(np.prod(dims)) > DENSE_CELLS:
+        c = cells.astype(np.int64) - lo
+        return _sorted_candidates(solid, origin, h, c, centres, uniform, uniform_parents, lo, dims)
+    grid = np.full(int(np.prod(dims)), np.nan, dtype=np.float32)
+    shift = -lo
+    for u, k in ((uniform_parents, 2), (uniform, 1)):
+        if u is not None and len(u[0]):
+            K.fill(grid, dims, u[0], u[1], k, shift, np.float32(_FAR))
+    # the cells' own values as float32 too, so that a tie stays a tie
+    K.put(grid, dims, cells, shift, centres)
+    s0, s1 = int(dims[1] * dims[2]), int(dims[2])
+    offs = _offsets()
+    deltas = (offs[:, 0] * s0 + offs[:, 1] * s1 + offs[:, 2]).astype(np.int64)
+    which = np.arange(cells.shape[0], dtype=np.int64)
+    mark = np.float32(_MARK)
+    status, ask = K.extrema(grid, dims, cells, shift, which, deltas, mark)
+    if ask.size:
+        # neighbours of unknown sign: sampled, then the undecided cells decided again
+        q = np.stack([ask // s0, (ask // s1) % dims[1], ask % s1], axis=1)
+        K.put_flat(grid, ask, np.asarray(solid(origin + (2 * (q + lo) + 1) * h), dtype=np.float32))
+        again = np.flatnonzero(status == 2).astype(np.int64)
+        status[again] = K.extrema(grid, dims, cells, shift, again, deltas, mark)[0]
+    is_min, is_max = np.flatnonzero(status == 1), np.flatnonzero(status == -1)
+    return (np.concatenate([is_min, is_max]),
+            np.concatenate([np.ones(is_min.size, np.int8), -np.ones(is_max.size, np.int8)]))
+
+
+def _offsets():
+    """The 26 neighbours' offsets, the six faces first, then the edges and the corners."""
+    offs = np.array([o for o in np.ndindex(3, 3, 3) if o != (1, 1, 1)], dtype=np.int64) - 1
+    return offs[np.argsort(np.abs(offs).sum(axis=1), kind="stable")]
+
+
+def _sorted_candidates(solid, origin, h, c, centres, uniform, uniform_parents, lo, dims):
+    """`_candidates` from the sorted keys of the known cells, each offset searched for the cells
+    still in the running only."""
+    neighbour = _sorted_values(c, centres, uniform, uniform_parents, lo, dims)
+    m = c.shape[0]
+    alive = np.arange(m)
+    lower = np.ones(m, bool)        # no neighbour below it yet: a minimum so far
+    upper = np.ones(m, bool)
+    differs = np.zeros(m, bool)
+    for d in _offsets():
+        if alive.size == 0:
+            break
+        nv = neighbour(alive, d)
+        rest = np.flatnonzero(np.isnan(nv))
+        if rest.size:
+            nv[rest] = np.asarray(solid(origin + (2 * (c[alive[rest]] + d + lo) + 1) * h), dtype=np.float64)
+        v = centres[alive]
+        lower[alive] &= ~(nv < v)
+        upper[alive] &= ~(nv > v)
+        differs[alive] |= nv != v
+        alive = alive[lower[alive] | upper[alive]]
+    is_min = lower[alive] & differs[alive] & ~upper[alive]
+    is_max = upper[alive] & differs[alive] & ~lower[alive]
+    idx = np.concatenate([alive[is_min], alive[is_max]])
+    side = np.concatenate([np.ones(int(is_min.sum()), np.int8), -np.ones(int(is_max.sum()), np.int8)])
+    return idx, side
+
+
+def _uniform_in(u, k, lo, dims):
+    """A set of uniform cells of edge ``k * 2h`` as cells of edge 2h inside the box (their lower
+    child), shifted by `lo`, with ``+-_FAR`` by sign."""
+    if u is None or len(u[0]) == 0:
+        return np.zeros((0, 3), np.int64), np.zeros(0, np.float32)
+    uc = np.asarray(u[0], dtype=np.int64) * k - lo
+    inside = ((uc[:, 0] > -k) & (uc[:, 0] < dims[0]) & (uc[:, 1] > -k) & (uc[:, 1] < dims[1])
+              & (uc[:, 2] > -k) & (uc[:, 2] < dims[2]))
+    return uc[inside], np.where(np.asarray(u[1])[inside] < 0, np.float32(-_FAR), np.float32(_FAR))
+
+
+def _sorted_values(c, centres, uniform, uniform_parents, lo, dims):
+    """Neighbour values from the sorted linear keys of the known cells (NaN: unknown)."""
+    span = dims + 2
+
+    def key(q):
+        return ((q[:, 0] + 1) * span[1] + (q[:, 1] + 1)) * span[2] + (q[:, 2] + 1)
+
+    uc, uv = _uniform_in(uniform, 1, lo, dims)
+    pc, pv = _uniform_in(uniform_parents, 2, lo, dims)
+    # a parent is filed under its lower child (none of its children is classified below it)
+    keys = np.concatenate([key(c), key(uc), key(pc)])
+    vals = np.concatenate([centres, uv, pv])
+    order = np.argsort(keys, kind="stable")
+    keys, vals = keys[order], vals[order]
+
+    def find(q):
+        k = key(q)
+        pos = np.minimum(np.searchsorted(keys, k), keys.shape[0] - 1)
+        return np.where(keys[pos] == k, vals[pos], np.nan)
+
+    def neighbour(alive, d):
+        q = c[alive] + d
+        nv = find(q)
+        miss = np.flatnonzero(np.isnan(nv))
+        if miss.size:
+            nv[miss] = find((q[miss] + lo) // 2 * 2 - lo)
+        return nv
+
+    return neighbour
+
+
+def _fine(solid, centre_pts, half, n):
+    """The field on an ``n**3`` grid of half-width `half` about each point: (k, n, n, n)."""
+    t = np.linspace(-half, half, n)
+    off = np.stack(np.meshgrid(t, t, t, indexing="ij"), axis=-1).reshape(-1, 3)
+    pts = (centre_pts[:, None, :] + off[None]).reshape(-1, 3)
+    return np.asarray(solid(pts), dtype=np.float64).reshape(-1, n, n, n), off
+
+
+def _measure(solid, centre_pts, side, h, lip, name_by):
+    n = 4 * FINER + 1
+    step = h / FINER
+    g, off = _fine(solid, centre_pts, 2 * h, n)
+    g *= side[:, None, None, None]
+    # a candidate with no material among its fine samples: once more, finer, about its smallest one
+    empty = ~(g < 0).any(axis=(1, 2, 3))
+    if empty.any():
+        k = np.flatnonzero(empty)
+        best = off[np.argmin(g[k].reshape(k.size, -1), axis=1)]
+        g2, off2 = _fine(solid, centre_pts[k] + best, 2 * step, n)
+        g2 *= side[k, None, None, None]
+        found = (g2 < 0).any(axis=(1, 2, 3))
+        k = k[found]
+        g[k], centre_pts = g2[found], centre_pts.copy()
+        centre_pts[k] = centre_pts[k] + best[found]
+        steps = np.full(g.shape[0], step)
+        steps[k] = step / FINER
+    else:
+        steps = np.full(g.shape[0], step)
+    has = (g < 0).any(axis=(1, 2, 3))
+    if not has.any():
+        return None
+    keep = np.flatnonzero(has)
+    g, steps, centre_pts, side = g[keep], steps[keep], centre_pts[keep], side[keep]
+    from scipy import ndimage
+
+    # the feature's thickness is read on its fine samples, not the field's values (a field far from a
+    # distance, or a max() whose gradient vanishes at the deepest point, would misread it): twice the
+    # largest distance from a sample inside to one outside, less a sample's width.  The blocks are
+    # stacked along a first axis of huge spacing (one transform, no block sees another's samples);
+    # beyond a block's faces is unknown, not outside
+    inside = g < 0
+    edt = ndimage.distance_transform_edt(inside, sampling=(1e9, 1.0, 1.0, 1.0))
+    # a region whose deepest sample lies on the block's faces goes on beyond them (the outside beside
+    # a face the block straddles, the material under it): its thickness is not measured here
+    core = edt[:, 1:-1, 1:-1, 1:-1]
+    cut = edt.reshape(edt.shape[0], -1).max(axis=1) > core.reshape(core.shape[0], -1).max(axis=1)
+    flat = core.reshape(core.shape[0], -1)
+    deepest = np.argmax(flat, axis=1)
+    thick = np.where(cut, np.inf, (2 * flat[np.arange(flat.shape[0]), deepest] - 1) * steps)
+    m = n - 2
+    deepest = np.ravel_multi_index(np.unravel_index(deepest, (m, m, m)), (n, n, n)) + (n * n + n + 1)
+    # its extent: the longest side of the box of its samples inside
+    span = np.zeros(g.shape[0])
+    for ax in (1, 2, 3):
+        any_ax = inside.any(axis=tuple(a for a in (1, 2, 3) if a != ax))
+        first = np.argmax(any_ax, axis=1)
+        last = any_ax.shape[1] - 1 - np.argmax(any_ax[:, ::-1], axis=1)
+        span = np.maximum(span, (last - first + 1) * steps)
+    # lost only when thinner than two voxels whatever the rounding of the samples: the deepest
+    # sample lies up to half a step's diagonal off the feature's middle, the nearest sample outside
+    # up to a step beyond the surface
+    res = (1 + math.sqrt(3)) * steps
+    lost = thick + res < LOST_VOXELS * h
+    if not lost.any():
+        return None
+    k = np.flatnonzero(lost)
+    best = k[np.argmin(thick[k])]
+    at = centre_pts[best] + off[deepest[best]] * (steps[best] / step)
+    return LostFeature("material" if side[best] > 0 else "gap", float(thick[best]), float(span[best]),
+                       tuple(float(v) for v in at), _bounded_by(name_by, at, thick[best]), int(k.size),
+                       float(res[best]))
+
+
+def _bounded_by(solid, at, thick):
+    """The facets nearest the point `at` inside a feature `thick` thick ('' when unknown)."""
+    try:
+        from implicit.facets import FacetField
+
+        ff = FacetField(solid)
+        _, dec, vals = ff(np.asarray(at, dtype=np.float64)[None])
+    except Exception:  # noqa: BLE001 - a name is a courtesy; the feature stands without it
+        return ""
+    d = np.abs(vals[:, 0])
+    near = [int(i) for i in np.argsort(d, kind="stable") if d[i] <= max(thick, 1e-300)][:3]
+    if int(dec[0]) not in near:
+        near = [int(dec[0])] + near[:2]
+    names = sorted({ff.names[i] for i in near})
+    return ", ".join(names[:-1]) + (" and " if len(names) > 1 else "") + names[-1] if names else ""
+
+
+def warn_lost(solid, origin, h, found, announced=None, *, name_by=None, stacklevel=2):
+    """Warn (one line) when `lost_feature` finds a feature the lattice may lose.
+
+    `found` is the classification of `spatial.meshing.boundary_cells_2h`
+    (``cells``, ``centres``, ``uniform``, ``uniform_parents``); `announced`
+    the voxel size an earlier warning already told to keep a wall (None:
+    none) -- a feature that voxel keeps is not told again; `name_by` the
+    solid whose facets name the feature (default `solid`: give the user's
+    tree when `solid` is it clipped to the bounds).  Returns the feature or
+    None.
+    """
+    import warnings
+
+    feat = lost_feature(solid, origin, h, found["cells"], found["centres"], uniform=found.get("uniform"),
+                        uniform_parents=found.get("uniform_parents"), name_by=name_by)
+    # a feature no thinner, to the measurement's resolution, than the wall announced: told already
+    if feat is None or (announced is not None and (feat.thickness + feat.resolution) / 4 >= announced):
+        return None
+    warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half {feat.describe()}; the feature may be lost; "
+                  f"voxel_size={feat.keep_voxel():.4g} keeps it", RuntimeWarning, stacklevel=stacklevel + 1)
+    return feat

@@ -1,0 +1,115 @@
+"""Features the lattice may lose whatever their faces: specks, slivers and gaps, found at the shell's extrema."""
+
+import os
+import sys
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import implicit as I
+from spatial import mesh
+from spatial.cells.lattice import make_lattice
+from spatial.cells.specks import lost_feature
+from spatial.meshing.boundary import boundary_cells_2h
+
+
+def _messages(solid, **kw):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        m = mesh(solid, progress=False, **kw)
+    return m, [str(w.message) for w in caught]
+
+
+def _feature(solid, h):
+    lat = make_lattice(solid, voxel_size=h)
+    found = boundary_cells_2h(lat, False)
+    return lost_feature(lat.solid, lat.origin, lat.voxel_size, found["cells"], found["centres"],
+                        uniform=found["uniform"], uniform_parents=found["uniform_parents"])
+
+
+# two plates 0.015 thick cut out of a box and the rest taken from a block: two gaps 0.015 thick
+# inside the material, between faces of different boxes -- the tree knows boxes of 0.97 and more,
+# the wall measurement walls of material, not gaps
+_C = (0.013, 0.007, 0.011)
+GAPS = I.box(2.0) - (I.box(1.0, center=_C) - I.box((1.2, 1.2, 0.97), center=_C))
+
+
+def test_gaps_inside_the_material_are_named_with_the_voxel_that_keeps_them():
+    h = 0.05
+    m, said = _messages(GAPS, voxel_size=h)
+    lost = [s for s in said if "the feature may be lost" in s]
+    assert len(lost) == 1 and len(said) == 1, said
+    assert "a thin gap" in lost[0] and "box_1" in lost[0] and "box_2" in lost[0]
+    f = _feature(GAPS, h)
+    assert f.kind == "gap"
+    assert abs(f.thickness - 0.015) <= f.resolution
+    # the point named lies in a gap (outside the solid, inside the outer box)
+    assert float(GAPS(np.asarray([f.at]))[0]) > 0 and np.all(np.abs(f.at) < 1.0)
+    assert f"voxel_size={f.thickness / 4:.4g} keeps it" in lost[0]
+    # the mesh stays valid
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+    from fuzzcheck import mesh_failures
+
+    assert mesh_failures(m, h) == []
+
+
+def test_no_feature_on_the_benchmark_part():
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "examples"))
+    from benchmark_part import model
+
+    for n in (48, 64, 100):
+        assert _feature(model(), 1.5 / n) is None
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(kind=st.sampled_from(["sphere", "box", "cylinder", "torus"]),
+       shift=st.tuples(*[st.floats(-0.5, 0.5)] * 3), voxels=st.integers(8, 24))
+def test_parts_the_lattice_resolves_have_no_feature(kind, shift, voxels):
+    # a primitive four voxels or more through, anywhere on the lattice: no feature is lost
+    h = 1.0 / voxels
+    make = {"sphere": lambda: I.sphere(1.0), "box": lambda: I.box((2.0, 1.5, 1.0)),
+            "cylinder": lambda: I.cylinder(0.5, 2.0), "torus": lambda: I.torus(0.8, 0.25)}[kind]
+    solid = I.translate(make(), tuple(v * h for v in shift))
+    if kind == "torus" and h > 0.5 * 0.25 / 2:
+        return
+    assert _feature(solid, h) is None
+
+
+def test_a_speck_beside_a_body_is_found_where_it_is():
+    # the intersection of three unit spheres leaves a speck about 0.06 thick and 0.3 across beside a
+    # box: at a voxel of 0.1 the lattice holds a tenth of it at most
+    speck = (I.sphere(1, (-0.96, 0.01, 2.02)) & I.sphere(1, (0.96, 0.01, 2.02))
+             & I.sphere(1, (0.0, 0.97, 2.02)))
+    f = _feature(I.box(1.0) | speck, 0.1)
+    assert f is not None and f.kind == "material"
+    assert f.thickness + f.resolution < 0.2
+    assert np.linalg.norm(np.asarray(f.at) - (0.0, 0.05, 2.02)) < 0.3
+    assert "sphere" in f.between
+
+
+@pytest.mark.parametrize("seed", [1274, 3132])
+def test_detection_costs_few_evaluations(seed):
+    # the candidates come from the classification's values; only the neighbours of unknown sign and
+    # the fine blocks of the candidates are sampled
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+    from fuzzgen import random_case
+
+    c = random_case(seed, resolutions=(16, 48), max_depth=5)
+    lat = make_lattice(c.solid, voxel_size=c.voxel_size, bounds=c.bounds)
+    found = boundary_cells_2h(lat, False)
+    calls = []
+
+    class Counting:
+        lipschitz = lat.solid.lipschitz
+
+        def __call__(self, p):
+            calls.append(len(p))
+            return lat.solid(p)
+
+    f = lost_feature(Counting(), lat.origin, lat.voxel_size, found["cells"], found["centres"],
+                     uniform=found["uniform"], uniform_parents=found["uniform_parents"])
+    assert f is not None
+    assert sum(calls) <= 4 * 17 ** 3
