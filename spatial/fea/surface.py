@@ -25,7 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from implicit.solid import Solid, as_positive
-from .facets import FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets
+from .facets import (FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets,
+                     value_and_gradient)
 from .surface_corners import exact_corners, snap_exact_corners
 
 __all__ = [
@@ -75,8 +76,13 @@ def _normals(points, faces):
 
 
 def _edges(faces):
+    """Unique edges ``(e, 2)``, lower index first, sorted (one integer key per edge: `np.unique` over
+    rows sorts structured records, several times slower)."""
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    return np.unique(np.sort(e, axis=1), axis=0)
+    lo, hi = np.minimum(e[:, 0], e[:, 1]), np.maximum(e[:, 0], e[:, 1])
+    n = int(hi.max(initial=0)) + 1
+    key = np.unique(lo * n + hi)
+    return np.stack([key // n, key % n], axis=1)
 
 
 def _polydata(points, faces):
@@ -134,11 +140,11 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     a, b = a[cross], b[cross]
     if a.size == 0:
         return pts, 0
-    grads = ff.facet_gradients(pts)
-    nrm = np.linalg.norm(grads, axis=2)  # (k, n)
-    # Distance estimate from each end to the other end's facet.
-    da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[dec[b], a], 1e-12)
-    db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[dec[a], b], 1e-12)
+    # Distance estimate from each end to the other end's facet (gradients of those two facets only).
+    grads = ff.gradients_of(np.concatenate([pts[a], pts[b]]), np.concatenate([dec[b], dec[a]]))
+    nrm = np.linalg.norm(grads, axis=1)
+    da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[:a.size], 1e-12)
+    db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[a.size:], 1e-12)
     # The nearer end moves (the farther one in `far` rounds, for edges whose nearer end
     # could not move without spoiling a triangle).
     pick_a = (da <= db) != far
@@ -247,16 +253,17 @@ def _snap_corners(ff: FacetField, points, faces, size, tol):
     return _apply_snaps(pts, faces, vert[pick], corner[pick])
 
 
-def _flip_across_features(ff: FacetField, points, faces, fixed):
+def _flip_across_features(ff: FacetField, points, faces, fixed, evaluated=None):
     """Flip edges that cross a feature curve between two vertices lying on it.
 
     An edge ``(a, b)`` whose ends are decided by different facets and do not
     lie together on one feature, and whose two opposite vertices ``c``, ``d``
     lie together on one feature curve (two common facets), is replaced by
     ``(c, d)``, which then runs along the feature.  Flips that would fold a
-    triangle are skipped.  Returns new faces.
+    triangle are skipped.  `evaluated` is ``ff(points)`` when the caller has it.
+    Returns new faces.
     """
-    _, dec, fv = ff(points)
+    _, dec, fv = ff(points) if evaluated is None else evaluated
     near = np.abs(fv) < 1e-7 * max(float(np.ptp(points, axis=0).max()), 1.0)
     m = len(faces)
     he_a = faces.reshape(-1)
@@ -300,11 +307,35 @@ def _flip_across_features(ff: FacetField, points, faces, fixed):
 # the surface pipeline
 # ---------------------------------------------------------------------------
 
+def _needs_cleaning(mesh) -> bool:
+    """Whether `mesh` has non-triangles, unused points, or two points at one place."""
+    if not mesh.is_all_triangles:
+        return True
+    pts = np.asarray(mesh.points, dtype=np.float64)
+    faces = mesh_faces(mesh)
+    if np.unique(faces).size != pts.shape[0]:
+        return True
+    order = np.lexsort(pts.T)
+    ps = pts[order]
+    return bool(np.any(np.all(ps[1:] == ps[:-1], axis=1)))
+
+
 def _clean_input(mesh):
     """Merge duplicate points, drop zero-area and repeated triangles."""
-    m = mesh.triangulate().clean(tolerance=0.0, absolute=True)
-    pts = np.asarray(m.points, dtype=np.float64)
-    faces = mesh_faces(m)
+    if _needs_cleaning(mesh):
+        m = mesh.triangulate().clean(tolerance=0.0, absolute=True)
+        pts = np.asarray(m.points, dtype=np.float64)
+        faces = mesh_faces(m)
+    else:
+        # The boundary mesher's surfaces are clean already; VTK's cleaning would only renumber the
+        # points in the order the triangles first use them (which the clustering's result depends on).
+        pts = np.asarray(mesh.points, dtype=np.float64)
+        faces = mesh_faces(mesh)
+        used, first = np.unique(faces.reshape(-1), return_index=True)
+        order = used[np.argsort(first, kind="stable")]
+        rank = np.empty(pts.shape[0], dtype=np.int64)
+        rank[order] = np.arange(order.size)
+        pts, faces = pts[order], rank[faces]
     area = 0.5 * np.linalg.norm(_normals(pts, faces), axis=1)
     keep = area > 1e-14 * max(float(area.max(initial=0.0)), 1e-300)
     keep &= (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
@@ -328,26 +359,59 @@ def _outward(points, faces):
     return faces[:, ::-1].copy() if vol < 0 else faces
 
 
-def _tangential_relax(solid, points, faces, fixed, iterations=3):
-    """Move free vertices toward their neighbours' mean in the tangent plane, then reproject."""
-    n = points.shape[0]
+def _neighbour_mean_matrix(faces, n):
+    """Sparse ``(n, n)`` matrix taking vertex positions to the mean of each vertex's neighbours.
+
+    Every edge is counted once per triangle side it is (twice on a closed
+    surface), which weighs all neighbours alike.
+    """
+    from scipy.sparse import csr_matrix
+
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    e = np.concatenate([e, e[:, ::-1]])
-    deg = np.bincount(e[:, 0], minlength=n).astype(np.float64)
+    rows = np.concatenate([e[:, 0], e[:, 1]])
+    cols = np.concatenate([e[:, 1], e[:, 0]])
+    deg = np.bincount(rows, minlength=n).astype(np.float64)
+    weight = 1.0 / np.maximum(deg, 1.0)[rows]
+    return csr_matrix((weight, (rows, cols)), shape=(n, n))
+
+
+def _tangential_relax(solid, points, faces, fixed, iterations=3, steps=3):
+    """Move free vertices toward their neighbours' mean in the tangent plane, then reproject.
+
+    The neighbour means come from one sparse matrix built once; each Newton
+    step of the reprojection evaluates the field and its gradient in one call,
+    and the gradient of the last step gives the next iteration's tangent plane.
+    """
     p = points.copy()
-    for _ in range(iterations):
-        mean = np.zeros_like(p)
-        np.add.at(mean, e[:, 0], p[e[:, 1]])
-        mean /= np.maximum(deg, 1)[:, None]
-        g = solid.gradient(p)
-        g /= np.maximum(np.linalg.norm(g, axis=1), 1e-300)[:, None]
-        d = mean - p
-        d -= np.einsum("ij,ij->i", d, g)[:, None] * g
-        d[fixed] = 0.0
-        cand = p + 0.5 * d
-        cand[~fixed] = project_to_surface(solid, cand[~fixed], steps=3)
-        p = cand
+    mean_of = _neighbour_mean_matrix(faces, p.shape[0])
+    free = np.nonzero(~fixed)[0]
+    h = _gradient_step(solid)
+    g = np.zeros_like(p)
+    g[free] = solid.gradient(p[free], step=h)
+    for it in range(iterations):
+        gf = g[free]
+        gf /= np.maximum(np.linalg.norm(gf, axis=1), 1e-300)[:, None]
+        d = mean_of @ p
+        d = d[free] - p[free]
+        d -= np.einsum("ij,ij->i", d, gf)[:, None] * gf
+        q = p[free] + 0.5 * d
+        # A tangential step leaves the point off a curved surface by about curvature * step^2: one
+        # Newton step takes that to its square, enough for the next iteration; the last one converges.
+        for _ in range(steps if it == iterations - 1 else 1):
+            f, gq = value_and_gradient(solid, q, h)
+            g2 = np.einsum("ij,ij->i", gq, gq)
+            ok = g2 > 1e-12
+            q[ok] -= (f[ok] / g2[ok])[:, None] * gq[ok]
+        p[free] = q
+        g[free] = gq
     return p
+
+
+def _gradient_step(solid):
+    """The finite-difference step `project_to_surface` uses for `solid`."""
+    lo, hi = solid.bounds
+    ext = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
+    return 1e-7 * max(float(np.max(ext)), 1.0)
 
 
 def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
@@ -471,17 +535,17 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
             pts, count = _snap_features(ff, pts, faces, size, fixed, far=rnd % 2 == 1)
             snapped += count
             # Keep vertices that sit on two facets; relax the others.
-            _, _, fv = ff(pts)
-            fixed = (np.abs(fv) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
-            faces = _flip_across_features(ff, pts, faces, fixed)
+            evaluated = ff(pts)
+            fixed = (np.abs(evaluated[2]) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
+            faces = _flip_across_features(ff, pts, faces, fixed, evaluated)
             pts = _tangential_relax(solid, pts, faces, fixed)
         tol = 1e-7 * max(size, 1.0)
         pts, count = _snap_corners(ff, pts, faces, size, tol)
         snapped += count
         if count:
-            _, _, fv = ff(pts)
-            fixed = (np.abs(fv) < tol).sum(axis=0) >= 2
-            faces = _flip_across_features(ff, pts, faces, fixed)
+            evaluated = ff(pts)
+            fixed = (np.abs(evaluated[2]) < tol).sum(axis=0) >= 2
+            faces = _flip_across_features(ff, pts, faces, fixed, evaluated)
             pts = _tangential_relax(solid, pts, faces, fixed)
         pts, count, _ = snap_exact_corners(pts, faces, exact_corners(ff, corner_mesh), size, tol, _apply_snaps,
                                            lambda p, f, held: _tangential_relax(solid, p, f, held), fixed)
