@@ -25,8 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from implicit.solid import Solid, as_positive
-from .facets import (FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets,
-                     value_and_gradient)
+from .facets import FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets
 from .surface_corners import exact_corners, snap_exact_corners
 
 __all__ = [
@@ -140,11 +139,11 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     a, b = a[cross], b[cross]
     if a.size == 0:
         return pts, 0
-    # Distance estimate from each end to the other end's facet (gradients of those two facets only).
-    grads = ff.gradients_of(np.concatenate([pts[a], pts[b]]), np.concatenate([dec[b], dec[a]]))
-    nrm = np.linalg.norm(grads, axis=1)
-    da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[:a.size], 1e-12)
-    db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[a.size:], 1e-12)
+    grads = ff.facet_gradients(pts)
+    nrm = np.linalg.norm(grads, axis=2)  # (k, n)
+    # Distance estimate from each end to the other end's facet.
+    da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[dec[b], a], 1e-12)
+    db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[dec[a], b], 1e-12)
     # The nearer end moves (the farther one in `far` rounds, for edges whose nearer end
     # could not move without spoiling a triangle).
     pick_a = (da <= db) != far
@@ -313,7 +312,7 @@ def _needs_cleaning(mesh) -> bool:
         return True
     pts = np.asarray(mesh.points, dtype=np.float64)
     faces = mesh_faces(mesh)
-    if np.unique(faces).size != pts.shape[0]:
+    if faces.size == 0 or np.count_nonzero(np.bincount(faces.reshape(-1), minlength=pts.shape[0])) != pts.shape[0]:
         return True
     order = np.lexsort(pts.T)
     ps = pts[order]
@@ -331,8 +330,10 @@ def _clean_input(mesh):
         # points in the order the triangles first use them (which the clustering's result depends on).
         pts = np.asarray(mesh.points, dtype=np.float64)
         faces = mesh_faces(mesh)
-        used, first = np.unique(faces.reshape(-1), return_index=True)
-        order = used[np.argsort(first, kind="stable")]
+        flat = faces.reshape(-1)
+        first = np.empty(pts.shape[0], dtype=np.int64)
+        first[flat[::-1]] = np.arange(flat.size - 1, -1, -1)  # the last write is the first use
+        order = np.argsort(first, kind="stable")
         rank = np.empty(pts.shape[0], dtype=np.int64)
         rank[order] = np.arange(order.size)
         pts, faces = pts[order], rank[faces]
@@ -359,59 +360,26 @@ def _outward(points, faces):
     return faces[:, ::-1].copy() if vol < 0 else faces
 
 
-def _neighbour_mean_matrix(faces, n):
-    """Sparse ``(n, n)`` matrix taking vertex positions to the mean of each vertex's neighbours.
-
-    Every edge is counted once per triangle side it is (twice on a closed
-    surface), which weighs all neighbours alike.
-    """
-    from scipy.sparse import csr_matrix
-
+def _tangential_relax(solid, points, faces, fixed, iterations=3):
+    """Move free vertices toward their neighbours' mean in the tangent plane, then reproject."""
+    n = points.shape[0]
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    rows = np.concatenate([e[:, 0], e[:, 1]])
-    cols = np.concatenate([e[:, 1], e[:, 0]])
-    deg = np.bincount(rows, minlength=n).astype(np.float64)
-    weight = 1.0 / np.maximum(deg, 1.0)[rows]
-    return csr_matrix((weight, (rows, cols)), shape=(n, n))
-
-
-def _tangential_relax(solid, points, faces, fixed, iterations=3, steps=3):
-    """Move free vertices toward their neighbours' mean in the tangent plane, then reproject.
-
-    The neighbour means come from one sparse matrix built once; each Newton
-    step of the reprojection evaluates the field and its gradient in one call,
-    and the gradient of the last step gives the next iteration's tangent plane.
-    """
+    e = np.concatenate([e, e[:, ::-1]])
+    deg = np.bincount(e[:, 0], minlength=n).astype(np.float64)
     p = points.copy()
-    mean_of = _neighbour_mean_matrix(faces, p.shape[0])
-    free = np.nonzero(~fixed)[0]
-    h = _gradient_step(solid)
-    g = np.zeros_like(p)
-    g[free] = solid.gradient(p[free], step=h)
-    for it in range(iterations):
-        gf = g[free]
-        gf /= np.maximum(np.linalg.norm(gf, axis=1), 1e-300)[:, None]
-        d = mean_of @ p
-        d = d[free] - p[free]
-        d -= np.einsum("ij,ij->i", d, gf)[:, None] * gf
-        q = p[free] + 0.5 * d
-        # A tangential step leaves the point off a curved surface by about curvature * step^2: one
-        # Newton step takes that to its square, enough for the next iteration; the last one converges.
-        for _ in range(steps if it == iterations - 1 else 1):
-            f, gq = value_and_gradient(solid, q, h)
-            g2 = np.einsum("ij,ij->i", gq, gq)
-            ok = g2 > 1e-12
-            q[ok] -= (f[ok] / g2[ok])[:, None] * gq[ok]
-        p[free] = q
-        g[free] = gq
+    for _ in range(iterations):
+        # Sums over the neighbours by bincount (np.add.at is several times slower).
+        mean = np.stack([np.bincount(e[:, 0], weights=p[e[:, 1], j], minlength=n) for j in range(3)], axis=1)
+        mean /= np.maximum(deg, 1)[:, None]
+        g = solid.gradient(p)
+        g /= np.maximum(np.linalg.norm(g, axis=1), 1e-300)[:, None]
+        d = mean - p
+        d -= np.einsum("ij,ij->i", d, g)[:, None] * g
+        d[fixed] = 0.0
+        cand = p + 0.5 * d
+        cand[~fixed] = project_to_surface(solid, cand[~fixed], steps=3)
+        p = cand
     return p
-
-
-def _gradient_step(solid):
-    """The finite-difference step `project_to_surface` uses for `solid`."""
-    lo, hi = solid.bounds
-    ext = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
-    return 1e-7 * max(float(np.max(ext)), 1.0)
 
 
 def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
