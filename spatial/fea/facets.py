@@ -200,7 +200,10 @@ def solve_on_facets(ff: FacetField, p, sets, iters=8):
             y = np.linalg.solve(JJ, fv[:, :, None])[:, :, 0]
         except np.linalg.LinAlgError:
             y = np.einsum("nij,nj->ni", np.linalg.pinv(JJ), fv)
-        p -= np.einsum("nji,nj->ni", J, y)
+        step = np.einsum("nji,nj->ni", J, y)
+        p -= step
+        if not step.any():
+            break  # a fixed point: every further step is zero as well
     return p
 
 

@@ -139,8 +139,10 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     a, b = a[cross], b[cross]
     if a.size == 0:
         return pts, 0
-    grads = ff.facet_gradients(pts)
-    nrm = np.linalg.norm(grads, axis=2)  # (k, n)
+    # Gradients at the ends of crossing edges only (each facet's at every vertex costs six walks of the tree).
+    ends = np.unique(np.concatenate([a, b]))
+    nrm = np.zeros((len(ff.names), n))
+    nrm[:, ends] = np.linalg.norm(ff.facet_gradients(pts[ends]), axis=2)  # (k, n)
     # Distance estimate from each end to the other end's facet.
     da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[dec[b], a], 1e-12)
     db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[dec[a], b], 1e-12)
@@ -366,19 +368,19 @@ def _tangential_relax(solid, points, faces, fixed, iterations=3):
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     e = np.concatenate([e, e[:, ::-1]])
     deg = np.bincount(e[:, 0], minlength=n).astype(np.float64)
+    free = ~np.asarray(fixed, dtype=bool)
     p = points.copy()
     for _ in range(iterations):
         # Sums over the neighbours by bincount (np.add.at is several times slower).
         mean = np.stack([np.bincount(e[:, 0], weights=p[e[:, 1], j], minlength=n) for j in range(3)], axis=1)
         mean /= np.maximum(deg, 1)[:, None]
-        g = solid.gradient(p)
+        # Fixed vertices do not move: their gradients are not needed.
+        g = solid.gradient(p[free])
         g /= np.maximum(np.linalg.norm(g, axis=1), 1e-300)[:, None]
-        d = mean - p
+        d = mean[free] - p[free]
         d -= np.einsum("ij,ij->i", d, g)[:, None] * g
-        d[fixed] = 0.0
-        cand = p + 0.5 * d
-        cand[~fixed] = project_to_surface(solid, cand[~fixed], steps=3)
-        p = cand
+        p = p.copy()
+        p[free] = project_to_surface(solid, p[free] + 0.5 * d, steps=3)
     return p
 
 
