@@ -8,8 +8,9 @@ smoothing and flips); gmsh meshes the same CSG built with its OpenCASCADE kernel
 its HXT and Delaunay 3D algorithms, at a mesh size chosen to give about the same number
 of tetrahedra.  Both meshes are then measured by gmsh itself (element qualities
 ``gamma`` and ``minSICN``) and by implicad's dihedral angles (slivers: elements with a
-dihedral angle under 10 degrees).  Times are wall-clock medians of the runs (implicad:
-surface plus tetrahedra; gmsh: 3D generation of the OCC model, 1D/2D included).
+dihedral angle under 10 degrees).  Times are wall-clock medians of the runs, interleaved
+(implicad: the whole `tet_mesh` from the CSG tree: surface, TetGen, smoothing and checks; gmsh:
+`generate(3)` of the OCC model, 1D, 2D, 3D and its optimisation; both exclude building the model).
 """
 
 from __future__ import annotations
@@ -100,7 +101,7 @@ def measures(points, tets):
 def implicad_mesh(size, allow_poor=False):
     t0 = time.perf_counter()
     m = tet_mesh(BENCH, size=size, reference_volume=VOLUME, allow_poor=allow_poor)
-    return m.points, m.tets, time.perf_counter() - t0
+    return m.points, m.tets, time.perf_counter() - t0, m.info["seconds"]
 
 
 def main(argv=None):
@@ -110,22 +111,32 @@ def main(argv=None):
     ap.add_argument("--size", type=float, default=0.08, help="implicad target edge length")
     ap.add_argument("--threads", type=int, default=1, help="gmsh threads (1: the same as implicad)")
     args = ap.parse_args(argv)
+    load0 = os.getloadavg()[0]
     implicad_mesh(0.2, allow_poor=True)  # warm-up: compiling the field evaluator and kernels
-    runs = [implicad_mesh(args.size) for _ in range(args.repeat)]
-    pts, tets, _ = runs[-1]
-    rows = {f"implicad size {args.size:g}": (measures(pts, tets), float(np.median([r[2] for r in runs])))}
-    # gmsh's size for the same tet count: one probe, then the cube-root rule.
+    pts, tets, _, _ = implicad_mesh(args.size)
+    # gmsh's size for the same tet count: one probe (also its warm-up), then the cube-root rule.
     _, probe, _ = gmsh_mesh(args.size, "hxt", args.threads)
     gsize = args.size * (len(probe) / len(tets)) ** (1.0 / 3.0)
+    # The runs interleaved, so a change of the machine's load falls on every mesher alike.
+    runs = {"implicad": [], "hxt": [], "delaunay": []}
+    for _ in range(args.repeat):
+        runs["implicad"].append(implicad_mesh(args.size))
+        for algorithm in ("hxt", "delaunay"):
+            runs[algorithm].append(gmsh_mesh(gsize, algorithm, args.threads))
+    load1 = os.getloadavg()[0]
+    median = {k: float(np.median([r[2] for r in v])) for k, v in runs.items()}
+    rows = {f"implicad size {args.size:g}": (measures(*runs["implicad"][-1][:2]), median["implicad"])}
     for algorithm in ("hxt", "delaunay"):
-        g = [gmsh_mesh(gsize, algorithm, args.threads) for _ in range(args.repeat)]
-        rows[f"gmsh {algorithm} size {gsize:.4g}"] = (measures(g[-1][0], g[-1][1]), float(np.median([r[2] for r in g])))
+        rows[f"gmsh {algorithm} size {gsize:.4g}"] = (measures(*runs[algorithm][-1][:2]), median[algorithm])
     keys = ["tets", "gamma min", "gamma p1", "SICN min", "SICN p1", "slivers <10", "min dih", "vol err %"]
-    print(f"benchmark part, median of {args.repeat} runs, gmsh threads {args.threads}")
+    print(f"benchmark part, median of {args.repeat} interleaved runs, gmsh threads {args.threads}, "
+          f"load average {load0:.1f} -> {load1:.1f}")
     print(f"{'mesher':<26}" + "".join(f"{k:>12}" for k in keys) + f"{'time s':>9}")
     for name, (m, t) in rows.items():
         cells = "".join(f"{m[k]:>12d}" if isinstance(m[k], int) else f"{m[k]:>12.4f}" for k in keys)
         print(f"{name:<26}{cells}{t:>9.2f}")
+    stages = {k: float(np.median([r[3][k] for r in runs["implicad"]])) for k in runs["implicad"][0][3]}
+    print("implicad stages (median s): " + ", ".join(f"{k} {v:.3f}" for k, v in stages.items()))
     mine = rows[f"implicad size {args.size:g}"]
     hxt = rows[f"gmsh hxt size {gsize:.4g}"]
     print(f"targets: min gamma >= 0.25: {'met' if mine[0]['gamma min'] >= 0.25 else 'MISSED'} "

@@ -155,8 +155,8 @@ def _report(mesh, args):
         print(f"{'off-surface nodes':<19}  {info['off_surface_nodes']} mid-edge nodes left on their chord "
               "(on the surface they would fold an element)")
     if info.get("surface_size") and abs(info["surface_size"] - args.size) > 1e-12:
-        print(f"{'surface size':<19}  {info['surface_size']:.4g} (finer than --size to keep the surface "
-              "free of self-intersections)")
+        print(f"{'surface size':<19}  {info['surface_size']:.4g} (finer than --size: the surface at --size "
+              "intersected itself or missed the solid's volume)")
 
 
 def _solve(args, mesh, loads) -> int:

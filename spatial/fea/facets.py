@@ -16,7 +16,7 @@ from implicit.facets import FacetField as _TreeFacets
 from implicit.solid import Solid
 
 __all__ = ["FacetField", "facet_field", "face_names", "independent_facets", "project_to_surface", "solve_on_facets",
-           "NEWTON_STEPS"]
+           "value_and_gradient", "NEWTON_STEPS"]
 
 #: Nodes whose facets are those of their children (the others are leaves of `_TreeFacets`).
 _COMPOSITE = ("union", "intersection", "difference", "complement", "family", "offset", "affine")
@@ -125,8 +125,7 @@ def project_to_surface(solid: Solid, points, *, steps: int = NEWTON_STEPS, max_m
     ext = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
     h = 1e-7 * max(float(np.max(ext)), 1.0)
     for _ in range(steps):
-        f = solid(p)
-        g = solid.gradient(p, step=h)
+        f, g = value_and_gradient(solid, p, h)
         g2 = np.einsum("ij,ij->i", g, g)
         ok = g2 > 1e-12
         p[ok] -= (f[ok] / g2[ok])[:, None] * g[ok]
@@ -134,6 +133,28 @@ def project_to_surface(solid: Solid, points, *, steps: int = NEWTON_STEPS, max_m
         far = np.linalg.norm(p - p0, axis=1) > max_move
         p[far] = p0[far]
     return p
+
+
+#: Central-difference probes of `value_and_gradient`: the point itself, then +x +y +z -x -y -z.
+_PROBES = np.concatenate([np.zeros((1, 3)), np.eye(3), -np.eye(3)])
+
+
+def value_and_gradient(solid: Solid, points, step):
+    """The field and its central-difference gradient (step `step`) at `points` ``(n, 3)``.
+
+    One evaluation of the seven probes of every point: the evaluator's cost per
+    call (pruning, binning) is paid once instead of twice.
+
+    Examples
+    --------
+    >>> from implicit import sphere
+    >>> f, g = value_and_gradient(sphere(1.0), np.array([[0.0, 0.0, 2.0]]), 1e-6)
+    >>> f.round(9).tolist(), g.round(6).tolist()
+    ([1.0], [[0.0, 0.0, 1.0]])
+    """
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    vals = solid((p[:, None, :] + step * _PROBES).reshape(-1, 3)).reshape(-1, 7)
+    return vals[:, 0], (vals[:, 1:4] - vals[:, 4:]) / (2.0 * step)
 
 
 def solve_on_facets(ff: FacetField, p, sets, iters=8):
@@ -179,7 +200,10 @@ def solve_on_facets(ff: FacetField, p, sets, iters=8):
             y = np.linalg.solve(JJ, fv[:, :, None])[:, :, 0]
         except np.linalg.LinAlgError:
             y = np.einsum("nij,nj->ni", np.linalg.pinv(JJ), fv)
-        p -= np.einsum("nji,nj->ni", J, y)
+        step = np.einsum("nji,nj->ni", J, y)
+        p -= step
+        if not step.any():
+            break  # a fixed point: every further step is zero as well
     return p
 
 

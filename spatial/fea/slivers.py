@@ -104,16 +104,17 @@ def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, see
         # Independent set: a vertex moves only if it has the smallest priority among the
         # candidates of all its elements (priorities drawn anew each round, so all get turns).
         prio = rng.permutation(n)
-        key = np.where(cand[tets], prio[tets], n)
-        tmin = key.min(axis=1)
+        # Only the elements around candidates decide (the rest of the mesh would cost a pass per round).
+        near = tets[np.unique(tet_of[_ragged(starts, np.nonzero(cand)[0])])]
+        tmin = np.where(cand[near], prio[near], n).min(axis=1)
         blocked = np.zeros(n, dtype=bool)
-        blocked[flat[tmin[np.arange(flat.size) // 4] != prio[flat]]] = True
+        blocked[near[tmin[:, None] != prio[near]]] = True
         verts = np.nonzero(cand & ~blocked)[0]
         if verts.size == 0:
             break
         # The pairs (vertex, element) around the moving vertices.
         counts = starts[verts + 1] - starts[verts]
-        idx = np.repeat(starts[verts], counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
+        idx = _ragged(starts, verts)
         pair_tet = tet_of[idx]
         pair_v = np.repeat(np.arange(verts.size), counts)
         seg = np.concatenate([[0], np.cumsum(counts)[:-1]])
@@ -152,6 +153,12 @@ def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, see
         if touched.size:
             score[touched] = element_score(pts, tets[touched], min_dihedral, max_dihedral, radius_edge)
     return pts
+
+
+def _ragged(starts, rows):
+    """Positions ``starts[r] .. starts[r + 1] - 1`` of every row ``r`` of `rows`, concatenated."""
+    counts = starts[rows + 1] - starts[rows]
+    return np.repeat(starts[rows], counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
 
 
 def peel(points, tets, min_dihedral, max_dihedral):

@@ -20,13 +20,14 @@ extraction from volume data", SIGGRAPH 2001, doi:10.1145/383259.383265.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
 
 import numpy as np
 
 from implicit.solid import Solid, as_positive
 from .facets import FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets
 from .surface_corners import exact_corners, snap_exact_corners
+from .surface_quality import (SurfaceQuality, _deviation, _edges, _is_closed_manifold, _normals, _polydata,  # noqa: F401
+                              _triangle_angles, mesh_faces, self_intersections, surface_quality)
 
 __all__ = [
     "FacetField",
@@ -43,73 +44,6 @@ __all__ = [
 SNAP_MIN_ANGLE = 12.0
 #: Rounds of feature snapping and tangential relaxation.
 SNAP_ROUNDS = 4
-
-
-# ---------------------------------------------------------------------------
-# mesh helpers
-# ---------------------------------------------------------------------------
-
-def mesh_faces(mesh) -> np.ndarray:
-    """Triangles of a pyvista mesh as an ``(m, 3)`` int array (triangulating if needed)."""
-    if not mesh.is_all_triangles:
-        mesh = mesh.triangulate()
-    return np.asarray(mesh.faces).reshape(-1, 4)[:, 1:].astype(np.int64)
-
-
-def _triangle_angles(points, faces):
-    """Interior angles (degrees) ``(m, 3)``, at vertex 0, 1, 2."""
-    a, b, c = (points[faces[:, i]] for i in range(3))
-
-    def ang(u, v):
-        nu = np.linalg.norm(u, axis=1)
-        nv = np.linalg.norm(v, axis=1)
-        cos = np.einsum("ij,ij->i", u, v) / np.maximum(nu * nv, 1e-300)
-        return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-
-    return np.stack([ang(b - a, c - a), ang(a - b, c - b), ang(a - c, b - c)], axis=1)
-
-
-def _normals(points, faces):
-    a, b, c = (points[faces[:, i]] for i in range(3))
-    return np.cross(b - a, c - a)
-
-
-def _edges(faces):
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    return np.unique(np.sort(e, axis=1), axis=0)
-
-
-def _polydata(points, faces):
-    import pyvista as pv
-
-    return pv.PolyData.from_regular_faces(np.asarray(points, dtype=np.float64), np.asarray(faces, dtype=np.int64))
-
-
-def _is_closed_manifold(faces) -> bool:
-    e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-    _, counts = np.unique(e, axis=0, return_counts=True)
-    return bool(np.all(counts == 2))
-
-
-def self_intersections(mesh) -> int:
-    """Number of triangles of `mesh` that intersect another one (pymeshfix's test).
-
-    Triangles that only share a vertex or an edge do not count.
-
-    Examples
-    --------
-    >>> import pyvista as pv
-    >>> self_intersections(pv.Sphere().triangulate())
-    0
-    """
-    try:
-        import pymeshfix
-    except ImportError as exc:  # pragma: no cover - dependency missing
-        raise ImportError("self_intersections needs pymeshfix: pip install pymeshfix") from exc
-    tm = pymeshfix.PyTMesh()
-    tm.set_quiet(True)
-    tm.load_array(np.ascontiguousarray(mesh.points, dtype=np.float64), np.ascontiguousarray(mesh_faces(mesh), dtype=np.int32))
-    return int(len(tm.select_intersecting_triangles(justproper=True)))
 
 
 # ---------------------------------------------------------------------------
@@ -134,8 +68,10 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     a, b = a[cross], b[cross]
     if a.size == 0:
         return pts, 0
-    grads = ff.facet_gradients(pts)
-    nrm = np.linalg.norm(grads, axis=2)  # (k, n)
+    # Gradients at the ends of crossing edges only (each facet's at every vertex costs six walks of the tree).
+    ends = np.unique(np.concatenate([a, b]))
+    nrm = np.zeros((len(ff.names), n))
+    nrm[:, ends] = np.linalg.norm(ff.facet_gradients(pts[ends]), axis=2)  # (k, n)
     # Distance estimate from each end to the other end's facet.
     da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[dec[b], a], 1e-12)
     db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[dec[a], b], 1e-12)
@@ -247,16 +183,17 @@ def _snap_corners(ff: FacetField, points, faces, size, tol):
     return _apply_snaps(pts, faces, vert[pick], corner[pick])
 
 
-def _flip_across_features(ff: FacetField, points, faces, fixed):
+def _flip_across_features(ff: FacetField, points, faces, fixed, evaluated=None):
     """Flip edges that cross a feature curve between two vertices lying on it.
 
     An edge ``(a, b)`` whose ends are decided by different facets and do not
     lie together on one feature, and whose two opposite vertices ``c``, ``d``
     lie together on one feature curve (two common facets), is replaced by
     ``(c, d)``, which then runs along the feature.  Flips that would fold a
-    triangle are skipped.  Returns new faces.
+    triangle are skipped.  `evaluated` is ``ff(points)`` when the caller has it.
+    Returns new faces.
     """
-    _, dec, fv = ff(points)
+    _, dec, fv = ff(points) if evaluated is None else evaluated
     near = np.abs(fv) < 1e-7 * max(float(np.ptp(points, axis=0).max()), 1.0)
     m = len(faces)
     he_a = faces.reshape(-1)
@@ -300,11 +237,37 @@ def _flip_across_features(ff: FacetField, points, faces, fixed):
 # the surface pipeline
 # ---------------------------------------------------------------------------
 
+def _needs_cleaning(mesh) -> bool:
+    """Whether `mesh` has non-triangles, unused points, or two points at one place."""
+    if not mesh.is_all_triangles:
+        return True
+    pts = np.asarray(mesh.points, dtype=np.float64)
+    faces = mesh_faces(mesh)
+    if faces.size == 0 or np.count_nonzero(np.bincount(faces.reshape(-1), minlength=pts.shape[0])) != pts.shape[0]:
+        return True
+    order = np.lexsort(pts.T)
+    ps = pts[order]
+    return bool(np.any(np.all(ps[1:] == ps[:-1], axis=1)))
+
+
 def _clean_input(mesh):
     """Merge duplicate points, drop zero-area and repeated triangles."""
-    m = mesh.triangulate().clean(tolerance=0.0, absolute=True)
-    pts = np.asarray(m.points, dtype=np.float64)
-    faces = mesh_faces(m)
+    if _needs_cleaning(mesh):
+        m = mesh.triangulate().clean(tolerance=0.0, absolute=True)
+        pts = np.asarray(m.points, dtype=np.float64)
+        faces = mesh_faces(m)
+    else:
+        # The boundary mesher's surfaces are clean already; VTK's cleaning would only renumber the
+        # points in the order the triangles first use them (which the clustering's result depends on).
+        pts = np.asarray(mesh.points, dtype=np.float64)
+        faces = mesh_faces(mesh)
+        flat = faces.reshape(-1)
+        first = np.empty(pts.shape[0], dtype=np.int64)
+        first[flat[::-1]] = np.arange(flat.size - 1, -1, -1)  # the last write is the first use
+        order = np.argsort(first, kind="stable")
+        rank = np.empty(pts.shape[0], dtype=np.int64)
+        rank[order] = np.arange(order.size)
+        pts, faces = pts[order], rank[faces]
     area = 0.5 * np.linalg.norm(_normals(pts, faces), axis=1)
     keep = area > 1e-14 * max(float(area.max(initial=0.0)), 1e-300)
     keep &= (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
@@ -334,19 +297,19 @@ def _tangential_relax(solid, points, faces, fixed, iterations=3):
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     e = np.concatenate([e, e[:, ::-1]])
     deg = np.bincount(e[:, 0], minlength=n).astype(np.float64)
+    free = ~np.asarray(fixed, dtype=bool)
     p = points.copy()
     for _ in range(iterations):
-        mean = np.zeros_like(p)
-        np.add.at(mean, e[:, 0], p[e[:, 1]])
+        # Sums over the neighbours by bincount (np.add.at is several times slower).
+        mean = np.stack([np.bincount(e[:, 0], weights=p[e[:, 1], j], minlength=n) for j in range(3)], axis=1)
         mean /= np.maximum(deg, 1)[:, None]
-        g = solid.gradient(p)
+        # Fixed vertices do not move: their gradients are not needed.
+        g = solid.gradient(p[free])
         g /= np.maximum(np.linalg.norm(g, axis=1), 1e-300)[:, None]
-        d = mean - p
+        d = mean[free] - p[free]
         d -= np.einsum("ij,ij->i", d, g)[:, None] * g
-        d[fixed] = 0.0
-        cand = p + 0.5 * d
-        cand[~fixed] = project_to_surface(solid, cand[~fixed], steps=3)
-        p = cand
+        p = p.copy()
+        p[free] = project_to_surface(solid, p[free] + 0.5 * d, steps=3)
     return p
 
 
@@ -471,17 +434,17 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
             pts, count = _snap_features(ff, pts, faces, size, fixed, far=rnd % 2 == 1)
             snapped += count
             # Keep vertices that sit on two facets; relax the others.
-            _, _, fv = ff(pts)
-            fixed = (np.abs(fv) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
-            faces = _flip_across_features(ff, pts, faces, fixed)
+            evaluated = ff(pts)
+            fixed = (np.abs(evaluated[2]) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
+            faces = _flip_across_features(ff, pts, faces, fixed, evaluated)
             pts = _tangential_relax(solid, pts, faces, fixed)
         tol = 1e-7 * max(size, 1.0)
         pts, count = _snap_corners(ff, pts, faces, size, tol)
         snapped += count
         if count:
-            _, _, fv = ff(pts)
-            fixed = (np.abs(fv) < tol).sum(axis=0) >= 2
-            faces = _flip_across_features(ff, pts, faces, fixed)
+            evaluated = ff(pts)
+            fixed = (np.abs(evaluated[2]) < tol).sum(axis=0) >= 2
+            faces = _flip_across_features(ff, pts, faces, fixed, evaluated)
             pts = _tangential_relax(solid, pts, faces, fixed)
         pts, count, _ = snap_exact_corners(pts, faces, exact_corners(ff, corner_mesh), size, tol, _apply_snaps,
                                            lambda p, f, held: _tangential_relax(solid, p, f, held), fixed)
@@ -501,99 +464,3 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
                              f"{size:g}; use a smaller size")
     return result
 
-
-def _deviation(solid, pts, faces):
-    centres = pts[faces].mean(axis=1)
-    return float(max(np.abs(solid(pts)).max(initial=0.0), np.abs(solid(centres)).max(initial=0.0)))
-
-
-# ---------------------------------------------------------------------------
-# quality
-# ---------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class SurfaceQuality:
-    """Quality figures of a triangle surface.
-
-    Attributes
-    ----------
-    n_points, n_triangles : int
-    min_angle : float
-        Smallest interior angle, degrees.
-    angle_p1, angle_p5 : float
-        1st and 5th percentile of every triangle's smallest angle, degrees.
-    max_angle : float
-        Largest interior angle, degrees.
-    max_aspect : float
-        Largest aspect ratio (longest edge over the height onto it, scaled so
-        an equilateral triangle has 1).
-    mean_edge : float
-        Mean edge length.
-    closed : bool
-        Every edge has exactly two triangles.
-    max_deviation : float or None
-        Largest ``|f|`` of the solid at vertices and face centres.
-    """
-
-    n_points: int
-    n_triangles: int
-    min_angle: float
-    angle_p1: float
-    angle_p5: float
-    max_angle: float
-    max_aspect: float
-    mean_edge: float
-    closed: bool
-    max_deviation: float | None
-
-    def summary(self) -> str:
-        """One line of text."""
-        dev = "" if self.max_deviation is None else f", deviation {self.max_deviation:.2e}"
-        return (f"{self.n_triangles} triangles, min angle {self.min_angle:.1f} deg "
-                f"(p1 {self.angle_p1:.1f}), max {self.max_angle:.1f}, aspect {self.max_aspect:.2f}{dev}")
-
-
-def surface_quality(mesh, solid=None) -> SurfaceQuality:
-    """Angles, aspect ratios and deviation from `solid` of a triangle mesh.
-
-    Parameters
-    ----------
-    mesh : pyvista.PolyData
-    solid : Solid, optional
-
-    Returns
-    -------
-    SurfaceQuality
-
-    Examples
-    --------
-    >>> import pyvista as pv
-    >>> q = surface_quality(pv.Icosphere(radius=1.0, nsub=2))
-    >>> bool(q.min_angle > 50), q.closed
-    (True, True)
-    """
-    import pyvista as pv
-
-    if not isinstance(mesh, pv.PolyData):
-        raise TypeError(f"mesh: expected a pyvista.PolyData, got {type(mesh).__name__}")
-    if solid is not None and not isinstance(solid, Solid):
-        raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
-    pts = np.asarray(mesh.points, dtype=np.float64)
-    faces = mesh_faces(mesh)
-    if len(faces) == 0:
-        raise ValueError("mesh: expected triangles, got none")
-    ang = _triangle_angles(pts, faces)
-    mins = ang.min(axis=1)
-    e = np.stack([np.linalg.norm(pts[faces[:, (i + 1) % 3]] - pts[faces[:, i]], axis=1) for i in range(3)], axis=1)
-    area2 = np.linalg.norm(_normals(pts, faces), axis=1)
-    longest = e.max(axis=1)
-    # height onto the longest edge = 2A / longest; equilateral: sqrt(3)/2 * l.
-    aspect = longest * longest / np.maximum(area2, 1e-300) * (np.sqrt(3) / 2)
-    dev = _deviation(solid, pts, faces) if solid is not None else None
-    return SurfaceQuality(
-        n_points=int(pts.shape[0]), n_triangles=int(len(faces)),
-        min_angle=float(mins.min()), angle_p1=float(np.percentile(mins, 1)),
-        angle_p5=float(np.percentile(mins, 5)), max_angle=float(ang.max()),
-        max_aspect=float(aspect.max()), mean_edge=float(e.mean()),
-        closed=_is_closed_manifold(faces), max_deviation=dev,
-    )

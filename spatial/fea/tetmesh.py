@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+import time
 import warnings
 from contextlib import contextmanager
 
@@ -162,8 +163,11 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     a boundary that cuts a corner or misses a concave edge shows up.  The
     tolerance is `volume_tolerance` plus the mass properties' own error
     estimate.  When the surface cannot be remeshed free of self-intersections
-    at `size` (a part as thin as `size`), the surface is remeshed finer
-    (`size` / 1.25, / 1.25^2 ...) and ``info["surface_size"]`` says so.
+    at `size`, or its enclosed volume misses the solid's by more than that
+    tolerance (times `order`: a part as thin as `size`), the surface is
+    remeshed finer (`size` / 1.25, / 1.25^2 ...) and ``info["surface_size"]``
+    says so.  ``info["seconds"]`` holds the wall-clock time of the stages
+    (surface, tetgen, smoothing, checks).
 
     Examples
     --------
@@ -202,9 +206,15 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     import tetgen
 
     info = {}
+    clock = [time.perf_counter()]
+    estimate = None
     if surface is None:
+        estimate, est_err = _solid_volume(solid, reference_volume)
+        # Order 2 adds the curvature the chords miss: its linear surface may miss more.
+        allowed = (volume_tolerance + est_err) * order
         # 10-node elements: edges short enough for their mid nodes to go onto curved faces
-        surface, info["surface_size"] = _surface_for(solid, size if order == 1 else curvature_size(solid, size))
+        surface, info["surface_size"] = _surface_for(solid, size if order == 1 else curvature_size(solid, size),
+                                                     estimate, allowed)
         sfaces = mesh_faces(surface)
     else:
         # TetGen aborts the whole process on such input: check it first.
@@ -219,9 +229,10 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     enclosed = abs(float(surface.volume))
     expected_nodes = int(enclosed / (_REGULAR_VOLUME * size**3) / 5.0) + len(spts)
     cap = int(steiner_cap) if steiner_cap is not None else 20 * expected_nodes + 1000
+    clock.append(time.perf_counter())
     tg = tetgen.TetGen(spts, sfaces.astype(np.int32))
     switches = (f"pq{min(radius_edge, TETGEN_RADIUS_EDGE):g}/{min(min_dihedral, TETGEN_MIN_DIHEDRAL):g}a{_REGULAR_VOLUME * size**3:.6g}"
-                f"o/{max_dihedral:g}O9/7S{cap}{_KEEP_SURFACE}Q")
+                f"o/{max_dihedral:g}{TETGEN_OPTIMIZE}S{cap}{_KEEP_SURFACE}Q")
     try:
         with _scratch_directory(), _native_stdout_silenced():
             nodes, elems, *_ = tg.tetrahedralize(switches=switches)
@@ -244,6 +255,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     movable[np.unique(bfaces)] = False
     # With -Y TetGen keeps the surface; count any point it still had to add on it.
     info["boundary_steiner_points"] = int(np.setdiff1d(np.unique(bfaces), np.arange(len(spts))).size)
+    clock.append(time.perf_counter())
     nodes = improve(nodes, elems, movable, min_dihedral, max_dihedral, seed=seed, radius_edge=radius_edge)
     if np.any(element_score(nodes, elems, min_dihedral, max_dihedral, radius_edge) < min_dihedral):
         # Slivers lying on the boundary: let boundary vertices off the sharp edges slide on the surface.
@@ -257,7 +269,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         if peeled:
             info["peeled"] = peeled
             bfaces, belem, bside = boundary_faces(elems)
-        for extra in range(3):
+        for extra in range(SLIVER_ROUNDS):
             # Stubborn slivers: flips of their interior faces, then more rounds with fresh random trials.
             if not np.any(element_score(nodes, elems, min_dihedral, max_dihedral, radius_edge) < min_dihedral):
                 break
@@ -267,6 +279,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
                 bfaces, belem, bside = boundary_faces(elems)
             nodes = improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 2 + extra,
                              solid=solid, slide=slide, rounds=80, jitter=1.0 + extra, radius_edge=radius_edge)
+    clock.append(time.perf_counter())
     if np.any(tet_volumes(nodes, elems) <= 0):
         raise ValueError("tet_mesh: an element is inverted after meshing (zero or negative volume)")
     tets = elems
@@ -281,7 +294,8 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     if quality.min_scaled_jacobian <= 0:
         raise ValueError(f"tet_mesh: inverted element (scaled Jacobian {quality.min_scaled_jacobian:.3g})")
     # Volume check against the solid's own volume (not one derived from the mesh's boundary).
-    estimate, est_err = _solid_volume(solid, reference_volume)
+    if estimate is None:
+        estimate, est_err = _solid_volume(solid, reference_volume)
     rel = abs(quality.volume - estimate) / max(abs(estimate), 1e-300)
     info.update(volume_estimate=estimate, volume_error=rel, volume_estimate_error=est_err, cap_hit=bool(cap_hit))
     bnodes = np.unique(bfaces)
@@ -305,6 +319,9 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         problems.append(f"mesh volume {quality.volume:.6g} differs from the solid's {estimate:.6g} (mass properties) "
                         f"by {100 * rel:.2f} percent; use a smaller size")
     info["problems"] = problems
+    clock.append(time.perf_counter())
+    # Wall-clock seconds of the stages (the surface includes the solid's volume when not given).
+    info["seconds"] = dict(zip(("surface", "tetgen", "smoothing", "checks"), np.diff(clock).tolist()))
     if problems and not allow_poor:
         raise MeshQualityError("tet_mesh: " + "; ".join(problems) + " (allow_poor=True keeps such a mesh)")
     for msg in problems:
@@ -313,27 +330,45 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
                    face_sets=face_sets, node_sets=node_sets, quality=quality, surface_deviation=dev, info=info)
 
 
+#: TetGen's mesh optimisation (-O: flip level / operations) and vertex smoothing (-s: criterion /
+#: iterations) switches.
+TETGEN_OPTIMIZE = "O9/7"
+
 #: The radius-edge ratio TetGen refines to at most.
 TETGEN_RADIUS_EDGE = 1.5
 #: The smallest dihedral angle TetGen is asked for at most: its refinement need not end for
 #: bounds much above 10 to 18 degrees; the smoothing and the final check take care of the rest.
 TETGEN_MIN_DIHEDRAL = 10.0
 
+#: Rounds of flips and smoothing with fresh random trials for slivers left after the first smoothing
+#: (each only while some are left).
+SLIVER_ROUNDS = 3
+
 #: Finer surface sizes tried, as factors of `size`, when the surface intersects itself at `size`.
 SURFACE_RETRIES = (1.0, 0.8, 0.64, 0.512)
 
 
-def _surface_for(solid, size):
-    """`surface_for_fea` at `size`, or at the first finer size of `SURFACE_RETRIES` that is
-    free of self-intersections (sharp features closer than `size` need more vertices)."""
+def _surface_for(solid, size, volume=None, allowed=None):
+    """`surface_for_fea` at `size`, or at the first finer size of `SURFACE_RETRIES` whose surface
+    is free of self-intersections (sharp features closer than `size` need more vertices) and,
+    given the solid's `volume`, encloses it within the relative error `allowed` (a surface that
+    cuts across a wall as thick as `size` misses a good part of it).  The last surface that
+    intersects nothing is kept when none does both; the volume check of the mesh then reports it."""
     err = None
+    kept = None
     for factor in SURFACE_RETRIES:
         try:
-            return surface_for_fea(solid, size=size * factor), size * factor
+            surface = surface_for_fea(solid, size=size * factor)
         except ValueError as exc:
             if "self-intersecting" not in str(exc):
                 raise
             err = exc
+            continue
+        kept = surface, size * factor
+        if volume is None or abs(abs(float(surface.volume)) - volume) <= allowed * max(abs(volume), 1e-300):
+            return kept
+    if kept is not None:
+        return kept
     raise err
 
 
