@@ -325,14 +325,13 @@ SURFACE_RETRIES = (1.0, 0.8, 0.64, 0.512)
 
 def _surface_for(solid, size):
     """`surface_for_fea` at `size`, or at the first finer size of `SURFACE_RETRIES` that is
-    free of self-intersections and keeps the part's edges (sharp features closer than `size` need
-    more vertices)."""
+    free of self-intersections (sharp features closer than `size` need more vertices)."""
     err = None
     for factor in SURFACE_RETRIES:
         try:
             return surface_for_fea(solid, size=size * factor), size * factor
         except ValueError as exc:
-            if "self-intersecting" not in str(exc) and "edges cut off" not in str(exc):
+            if "self-intersecting" not in str(exc):
                 raise
             err = exc
     raise err
