@@ -42,15 +42,19 @@ def test_import_implicit_loads_no_scipy_numba_or_spatial():
     assert loaded == []
 
 
-def test_the_mesh_path_loads_only_what_meshing_needs():
-    job = "import spatial; from implicit import sphere; spatial.mesh(sphere(1.0), resolution=12); "
+@pytest.mark.parametrize("features", [False, None])
+def test_the_mesh_path_loads_only_what_meshing_needs(features):
+    extra = "" if features is None else f", features={features}"
+    job = f"import spatial; from implicit import sphere; spatial.mesh(sphere(1.0), resolution=12{extra}); "
     _fresh(job + _LOADED)  # compiles into numba's cache whatever an edited kernel left stale
     loaded = _fresh(job + _LOADED)
     rooms = {m.split(".")[1] for m in loaded if m.startswith("spatial.")}
     assert rooms <= {"files", "cells", "meshing", "distributed"}, rooms
     # the cluster side of `distributed` stays out: only its warning wrapper and the shared mesh module
     assert "spatial.distributed.mass" not in loaded and "spatial.analysis" not in loaded
-    for heavy in ("scipy.spatial", "scipy.sparse", "scipy.linalg", "matplotlib", "dask", "distributed", "meshio"):
+    # the plain path needs no scipy; the default (feature) path loads scipy.linalg on the way
+    heavies = ("scipy.spatial", "scipy.sparse", "scipy.linalg") if features is False else ()
+    for heavy in heavies + ("matplotlib", "dask", "distributed", "meshio"):
         assert heavy not in loaded, heavy
 
 

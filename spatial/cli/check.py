@@ -41,7 +41,7 @@ def run(args) -> int:
     target = load_target(args.model)
     progress = progress_of(args)
     report = check(target, resolution=args.resolution, assembly=args.assembly,
-                   mesher=lambda solid, h: _mesh(solid, voxel_size=h, progress=progress))
+                   mesher=lambda solid, h: _mesh(solid, voxel_size=h, progress=progress, features=False))
     of = (f"the boundary mesh of the solid at N={args.resolution}" if isinstance(target, Solid)
           else "the mesh file's triangles")
     if args.json:

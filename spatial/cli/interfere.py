@@ -35,7 +35,7 @@ def run(args) -> int:
     parts = load_assembly(args.assembly)
     progress = progress_of(args)
     report = check_assembly(parts, resolution=args.resolution,
-                            mesher=lambda solid, h: mesh(solid, voxel_size=h, progress=progress))
+                            mesher=lambda solid, h: mesh(solid, voxel_size=h, progress=progress, features=False))
     if args.json:
         print(json.dumps(report.to_dict(), indent=2))
     else:

@@ -113,7 +113,8 @@ def run(args) -> int:
         from .common import progress_of
 
         progress = progress_of(args)
-        kw["mesher"] = lambda solid, h: _mesh(solid, voxel_size=h, progress=progress)
+        # the plain mesh, as mass_properties' own mesher (see analysis.mass_solid.default_mesher)
+        kw["mesher"] = lambda solid, h: _mesh(solid, voxel_size=h, progress=progress, features=False)
     from ..analysis.mass import ToleranceError
 
     try:

@@ -10,6 +10,9 @@ thinnest wall) take one line each on stderr; an empty mesh is not written
 ``--scheduler ADDRESS`` meshes brick by brick on a cluster (the same
 triangles), with Dask's progress bar; a ``.pvtp`` output is then written in
 parts (one .vtp per brick, nothing gathered).
+Sharp edges and corners are rebuilt (`spatial.mesh`'s feature pass) unless
+``--no-features`` asks for the plain marching-cubes mesh; a ``.pvtp`` in parts
+is plain (the feature pass needs the whole mesh).
 """
 
 from __future__ import annotations
@@ -28,7 +31,10 @@ DESCRIPTION = (
     "the cell size comes from the part's size and its thinnest wall (four cells through it). "
     "With --workers N (a local Dask cluster of N processes) or --scheduler ADDRESS (a running Dask "
     "scheduler) the part is meshed brick by brick on the cluster -- the same triangles, the same default "
-    "cell size -- with Dask's progress bar; a .pvtp output is then written in parts, one .vtp per brick."
+    "cell size -- with Dask's progress bar; a .pvtp output is then written in parts, one .vtp per brick. "
+    "Sharp edges and corners are rebuilt (a vertex on every edge and corner of the CSG faces); "
+    "--no-features writes the plain marching-cubes mesh (faster, edges cut by chamfers about a cell wide), "
+    "as a .pvtp in parts always is."
 )
 
 
@@ -42,6 +48,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--bounds", type=float, nargs=6, metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
                         help="region to mesh (needed for unbounded models)")
     parser.add_argument("--no-refine", action="store_true", help="keep interpolated vertices (no projection)")
+    parser.add_argument("--features", dest="features", action="store_const", const=True, default=None,
+                        help="rebuild sharp edges and corners (the default; not with a .pvtp in parts)")
+    parser.add_argument("--no-features", dest="features", action="store_const", const=False,
+                        help="the plain marching-cubes mesh: faster, edges and corners cut by small chamfers")
     parser.add_argument("--progress", dest="progress", action="store_const", const=True, default=None,
                         help="always show the progress bar")
     parser.add_argument("--quiet", dest="progress", action="store_const", const=False,
@@ -87,6 +97,9 @@ def run(args) -> int:
     in_parts = cluster is not None and args.output.lower().endswith(".pvtp")
     if not in_parts:
         mesh_format(args.output)  # unknown extension: refused before any work
+    elif args.features:
+        raise ValueError(f"--features: a .pvtp in parts ({args.output}) is written brick by brick, without "
+                         "the feature pass (it needs the whole mesh); give another format or --no-features")
     bounds = None
     if args.bounds is not None:
         bounds = (args.bounds[:3], args.bounds[3:])
@@ -94,6 +107,8 @@ def run(args) -> int:
     t0 = time.perf_counter()
     options = dict(voxel_size=args.voxel_size, resolution=args.resolution, bounds=bounds,
                    refine=not args.no_refine, progress=args.progress)
+    if args.features is not None:
+        options["features"] = args.features
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if cluster is None:

@@ -53,7 +53,7 @@ def _warn_thin(solid, h):
 
 @user_warnings
 def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, bounds=None, refine=True,
-         progress=None, block=DEFAULT_BLOCK, brick=DEFAULT_BRICK, parts=None, features=False):
+         progress=None, block=DEFAULT_BLOCK, brick=DEFAULT_BRICK, parts=None, features=None):
     """Closed, outward-oriented boundary mesh of a solid, meshed brick by brick on a Dask cluster.
 
     Parameters
@@ -69,11 +69,15 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
         As `spatial.meshing.mesh` (with neither `voxel_size` nor
         `resolution`, the same default voxel from the part's size and
         thinnest wall); `progress` shows Dask's progress bar.
-    features : bool
+    features : bool or None
         Rebuild sharp edges and corners as `spatial.meshing.mesh` does: the
         bricks' meshes are fused on the client and the feature pass
         (`spatial.meshing.features.sharpen`) runs there over the whole mesh,
-        so the result is the single-process one.  Not with `parts`.
+        so the result is the single-process one.  None (the default): True,
+        except with `parts`, whose bricks are written unfused so that the
+        feature pass, which needs the whole mesh, cannot run: the parts are
+        plain marching-cubes meshes (the single-process ``features=False``
+        mesh, brick by brick).  True with `parts` is refused.
     brick : int
         Voxels per side of the octree cell one task meshes (a power of two,
         a multiple of `block`); it bounds a worker's memory.
@@ -99,8 +103,10 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
     t0 = time.perf_counter()
     check_client(client, workers)
     index = _check_parts(parts)
-    if not isinstance(features, (bool, np.bool_)):
-        raise TypeError(f"features: expected True or False, got {features!r}")
+    if features is not None and not isinstance(features, (bool, np.bool_)):
+        raise TypeError(f"features: expected True, False or None, got {features!r}")
+    if features is None:
+        features = index is None  # the feature pass needs the whole mesh: parts stay plain
     if features and index is not None:
         raise ValueError("features: the feature pass needs the whole mesh; give parts= or features=True, not both")
     if voxel_size is None and resolution is None:

@@ -102,7 +102,7 @@ def surface_size(solid, size, voxel=None):
     """
     from ..meshing.boundary import mesh
 
-    m = mesh(solid, voxel_size=voxel or size / 4.0, progress=False)
+    m = mesh(solid, voxel_size=voxel or size / 4.0, progress=False, features=False)
     if m.n_points == 0:
         return float(size)
     w = narrow_widths(solid, np.asarray(m.points, dtype=np.float64), size)

@@ -394,10 +394,10 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
 
         h = voxel_size or size / 4.0
         # The plain mesh of the solid grown by a twentieth of a voxel (touching faces of a union are 0
-        # inside the part: a crack otherwise); the feature mesh as the start loses volume on thin parts.
+        # inside the part: a crack otherwise); the feature mesh as the start: see surface_corners.
         from implicit.modifiers import offset as _offset
 
-        mesh = _mesh_solid(_offset(solid, 0.05 * h), voxel_size=h)
+        mesh = _mesh_solid(_offset(solid, 0.05 * h), voxel_size=h, features=False)
         corner_mesh = _mesh_solid(solid, voxel_size=h, features=True)  # its corners become nodes
     if mesh.n_cells == 0:
         raise ValueError("solid_or_mesh: the mesh has no cells")

@@ -385,7 +385,7 @@ def _solid_volume(solid, known=None):
 def _quiet_mesher(solid, h):
     from ..meshing.boundary import mesh
 
-    return mesh(solid, voxel_size=h, progress=False)
+    return mesh(solid, voxel_size=h, progress=False, features=False)  # mass_properties' own plain mesher
 
 
 @contextmanager

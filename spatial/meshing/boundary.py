@@ -69,7 +69,7 @@ __all__ = ["mesh", "boundary_cells_2h"]
 
 
 def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, progress=None,
-         block=DEFAULT_BLOCK, features=False):
+         block=DEFAULT_BLOCK, features=True):
     """Closed, outward-oriented triangle mesh of a solid's boundary.
 
     Parameters
@@ -95,10 +95,12 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     block : int
         Voxels per side of a meshing block (even).
     features : bool
-        Rebuild sharp edges and corners (`spatial.meshing.features`): a
-        vertex on every edge and corner of the CSG faces, and the point data
-        ``feature_rank`` / ``feature_facets`` with the field data
-        ``facet_names`` that `feature_edges` reads.
+        Rebuild sharp edges and corners (`spatial.meshing.features`; the
+        default): a vertex on every edge and corner of the CSG faces, and the
+        point data ``feature_rank`` / ``feature_facets`` with the field data
+        ``facet_names`` that `feature_edges` reads.  False gives the plain
+        marching-cubes mesh, faster, every vertex on a lattice edge (edges
+        and corners cut by chamfers up to about a voxel wide).
 
     Returns
     -------

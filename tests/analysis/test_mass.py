@@ -22,7 +22,8 @@ def _mesher():
     """`spatial.mesh` when present, else a dense marching-cubes stand-in."""
     try:
         from spatial.meshing.boundary import mesh as spatial_mesh
-        return lambda solid, h: spatial_mesh(solid, voxel_size=h, progress=False)
+        # the plain mesh, as mass_properties' own mesher (raw marching-cubes volumes, their h^2 law)
+        return lambda solid, h: spatial_mesh(solid, voxel_size=h, progress=False, features=False)
     except ImportError:  # pragma: no cover - the mesher is part of the package
         from skimage import measure
 

@@ -55,8 +55,9 @@ def test_mesh_is_the_single_process_mesh_triangle_for_triangle(client):
     from spatial.meshing import mesh as single
 
     part = benchmark_part()
-    ref = single(part, resolution=128, progress=False)
-    out = spatial.mesh(part, resolution=128, client=client, brick=64, progress=False)
+    # the plain path: vertices keyed by their lattice edge (the feature mesh: test_distributed_exact)
+    ref = single(part, resolution=128, progress=False, features=False)
+    out = spatial.mesh(part, resolution=128, client=client, brick=64, progress=False, features=False)
     plan = plan_bricks(part, resolution=128, brick=64)
     assert int(out.field_data["bricks"][0]) == plan.bricks.shape[0] > 20
     origin, h, stride = np.array(plan.spec.origin), plan.spec.voxel_size, plan.spec.stride
@@ -104,7 +105,7 @@ def test_parts_on_disk_open_as_one_dataset_and_gather_closed(client, tmp_path):
     from spatial.meshing import mesh as single
 
     part = benchmark_part()
-    ref = single(part, resolution=64, progress=False)
+    ref = single(part, resolution=64, progress=False, features=False)   # parts on disk are plain
     index = tmp_path / "part.pvtp"
     out = mesh(part, resolution=64, client=client, brick=32, parts=index)
     assert isinstance(out, PartitionedMesh)
@@ -195,7 +196,7 @@ def test_cli_meshes_on_a_scheduler_and_refuses_bad_workers(client, tmp_path, cap
     out = tmp_path / "part.stl"
     address = client.scheduler.address
     assert main(["mesh", str(model), "-o", str(out), "--resolution", "64", "--scheduler", address,
-                 "--brick", "32", "--quiet"]) == 0
+                 "--brick", "32", "--quiet", "--no-features"]) == 0
     line = capsys.readouterr().out
     assert "55936 triangles" in line and "watertight yes" in line  # as the single-process test above
     assert pv.read(str(out)).n_cells == 55936

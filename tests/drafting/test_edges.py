@@ -30,7 +30,7 @@ def test_box_edges_are_single_and_exact():
     assert dist.max() < 0.1 * e.voxel_size
     assert np.median(dist) < 1e-6
     # On a plain marching-cubes mesh the mesh normals alone draw the chamfered edges twice.
-    plain = spatial.mesh(part, resolution=40, progress=False)
+    plain = spatial.mesh(part, resolution=40, progress=False, features=False)
     assert length(surface_edges(plain).polylines) > 1.5 * length(e.polylines)
 
 

@@ -45,7 +45,9 @@ def test_a_local_bump_is_found_and_located():
     top = r.worst(1)[0]
     assert np.allclose(top["point"], [0.5, 0.3, 0.65], atol=0.03)
     assert not r.passed and 0.97 < r.within_tolerance < 1.0
-    assert np.abs(r.transform - np.eye(4)).max() < 1e-5       # Huber weights: the bump does not pull the fit
+    # Huber weights: the bump does not pull the fit (1.3e-5 on the feature mesh, whose sharp rim round
+    # the bump keeps more points far out than the plain mesh's chamfer did)
+    assert np.abs(r.transform - np.eye(4)).max() < 2e-5
 
 
 def test_a_rigid_misplacement_is_undone():

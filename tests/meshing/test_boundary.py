@@ -41,7 +41,8 @@ PARTS = [
 @pytest.fixture(scope="module", params=PARTS, ids=[p[0] for p in PARTS])
 def meshed(request):
     name, solid, n, euler, volume = request.param
-    return name, solid, mesh(solid, resolution=n), euler, volume
+    # the plain path (features=False): vertices refined along lattice edges; the feature path has test_features
+    return name, solid, mesh(solid, resolution=n, features=False), euler, volume
 
 
 def test_closed_manifold_oriented(meshed):
@@ -134,13 +135,16 @@ def test_empty_solid_and_no_boundary_warn():
     # a solid filling the region is clipped to it: a closed cube of volume 8 minus the cut edges
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        m = mesh(sphere(10.0), resolution=16, bounds=((-1, -1, -1), (1, 1, 1)))
-    assert topology(m)["euler"] == 2
+        m = mesh(sphere(10.0), resolution=16, bounds=((-1, -1, -1), (1, 1, 1)), features=False)
+        sharp = mesh(sphere(10.0), resolution=16, bounds=((-1, -1, -1), (1, 1, 1)))
+    assert topology(m)["euler"] == 2 and topology(sharp)["euler"] == 2
     assert signed_volume(m) == pytest.approx(8.0 - 24 * (2 / 16) ** 2 / 2, rel=0.01)
+    # by default the clipping box's edges are rebuilt too
+    assert signed_volume(sharp) == pytest.approx(8.0, rel=1e-3)
 
 
 def test_clipped_to_bounds_stays_closed():
-    m = mesh(halfspace((0, 0, 1)), resolution=16, bounds=((-1, -1, -1), (1, 1, 0)))
+    m = mesh(halfspace((0, 0, 1)), resolution=16, bounds=((-1, -1, -1), (1, 1, 0)), features=False)
     topo = topology(m)
     assert topo["edge_counts"] == {2} and topo["euler"] == 2
     # the box's 12 edges (total length 20) lose a triangle of legs h each: h^2/2 per unit length
@@ -199,7 +203,7 @@ def test_inferred_signs_give_the_fully_sampled_mesh(solid, n):
     lattice = make_lattice(solid, resolution=n)
     found = _boundary_cells_2h(lattice, False)
     assert found["uniform"] is not None and found["nodes"] is not None
-    lean = mesh(solid, resolution=n, refine=False)
+    lean = mesh(solid, resolution=n, refine=False, features=False)
     # every node of every boundary cell sampled: no centre values, no uniform cells, no known nodes
     full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False)
     assert lean.n_cells == full.n_cells and lean.n_points == full.n_points
@@ -249,7 +253,7 @@ def _lean_and_full(solid, n):
     found = _boundary_cells_2h(lattice, False)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        lean = mesh(solid, resolution=n, refine=False)
+        lean = mesh(solid, resolution=n, refine=False, features=False)
         full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False)
     return lean, full
 

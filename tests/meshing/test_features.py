@@ -54,7 +54,7 @@ def test_box_edges_and_corners_exact():
     m = mesh(box(2 * half), resolution=24, bounds=ASKEW, features=True)
     h = m.field_data["voxel_size"][0]
     assert_valid(m)
-    plain = mesh(box(2 * half), resolution=24, bounds=ASKEW)
+    plain = mesh(box(2 * half), resolution=24, bounds=ASKEW, features=False)
     corners = np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)])
     assert distances(plain, corners).max() > 0.5 * h      # marching cubes cuts the corners
     assert distances(m, corners).max() < 0.01 * h
@@ -81,7 +81,7 @@ def test_box_minus_cylinder():
     rims = np.concatenate([circle(0.23, 0.45), circle(0.23, -0.45)])
     d = distances(m, rims)
     assert d.max() < 0.15 * h and np.median(d) < 0.02 * h
-    plain = mesh(solid, resolution=40, bounds=ASKEW)
+    plain = mesh(solid, resolution=40, bounds=ASKEW, features=False)
     assert distances(plain, rims).max() > 0.3 * h
     exact = 0.9 ** 3 - np.pi * 0.23 ** 2 * 0.9
     # what is left is the chord error of the curved hole wall (O(h^2)), not the rims
@@ -95,7 +95,7 @@ def test_benchmark_part_volume_and_corners():
     h = m.field_data["voxel_size"][0]
     assert_valid(m)
     assert spatial.check(m).topology.genus == 5
-    plain = mesh(BENCH, resolution=96)
+    plain = mesh(BENCH, resolution=96, features=False)
     err, err_plain = abs(signed_volume(m) - BENCH_VOLUME), abs(signed_volume(plain) - BENCH_VOLUME)
     assert err < 8e-5 and err < 0.1 * err_plain      # 7.3e-5: the chord error of the curved faces
     # the eight corners where the three drills meet
@@ -112,18 +112,20 @@ def test_benchmark_part_volume_and_corners():
     assert m.n_cells < 1.1 * plain.n_cells
 
 
-def test_deterministic_and_default_off():
+def test_deterministic_and_default_on():
     a = mesh(BENCH, resolution=32, features=True)
     b = mesh(BENCH, resolution=32, features=True)
     assert np.array_equal(a.points, b.points) and np.array_equal(a.faces, b.faces)
-    assert "feature_rank" not in mesh(BENCH, resolution=32).point_data
+    default = mesh(BENCH, resolution=32)   # features by default: the same mesh
+    assert np.array_equal(a.points, default.points) and np.array_equal(a.faces, default.faces)
+    assert "feature_rank" not in mesh(BENCH, resolution=32, features=False).point_data
 
 
 def test_bad_input():
     with pytest.raises(TypeError, match="features"):
         mesh(box(1.0), resolution=8, features="yes")
     with pytest.raises(ValueError, match="feature_rank"):
-        feature_edges(mesh(box(1.0), resolution=8))
+        feature_edges(mesh(box(1.0), resolution=8, features=False))
 
 
 def test_bracket_family_corners():

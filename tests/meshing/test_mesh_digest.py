@@ -60,7 +60,7 @@ def _blobs():
                         capsule((-0.5, -0.5, 0.0), (0.2, 0.6, 0.4), 0.25), blend=0.2)
 
 
-# the plain path (marching cubes, refined), asked for explicitly
+# the plain path (marching cubes, refined), asked for explicitly (the default is the feature path)
 CASES = {
     "benchmark part N=40": (_bench, dict(resolution=40, features=False)),
     "benchmark part N=40 unrefined": (_bench, dict(resolution=40, refine=False, features=False)),
@@ -89,6 +89,14 @@ def test_mesh_is_pinned(name):
     make, kwargs = CASES[name]
     digest, n = triangle_digest(mesh(make(), progress=False, **kwargs))
     assert (digest, n) == PINNED[name]
+
+
+@pytest.mark.parametrize("name", ["benchmark part N=40 features", "plate with holes N=48 features"])
+def test_default_mesh_is_the_feature_mesh(name):
+    """Without `features`, `spatial.mesh` gives the feature mesh, triangle for triangle."""
+    make, kwargs = CASES[name]
+    kwargs = {k: v for k, v in kwargs.items() if k != "features"}
+    assert triangle_digest(mesh(make(), progress=False, **kwargs)) == PINNED[name]
 
 
 def test_digest_sees_one_flipped_triangle():

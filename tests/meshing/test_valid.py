@@ -222,11 +222,13 @@ def test_fuzz_seed_301_part_smaller_than_a_voxel_is_announced():
     assert failures(random_case(301, resolutions=(16, 48), max_depth=5)) == ["thin feature warned"]
 
 
-def _announced_feature(seed):
-    """The case's single 'feature may be lost' warning: (thickness, voxel that keeps it, text)."""
+def _announced_feature(seed, monkeypatch):
+    """The case's single 'feature may be lost' warning on the plain mesh: (thickness, voxel that keeps it, text)."""
+    import fuzzcheck
     from fuzzcheck import failures, mesh_case
     from fuzzgen import random_case
 
+    monkeypatch.setattr(fuzzcheck, "FEATURES", False)  # the plain mesh loses them (the default keeps them)
     case = random_case(seed, resolutions=(16, 48), max_depth=5)
     said = []
     mesh_case(case, messages=said)
@@ -240,27 +242,27 @@ def _announced_feature(seed):
     return case, t, keep, lost[0]
 
 
-def test_fuzz_seed_1274_knife_edge_sliver_is_announced():
+def test_fuzz_seed_1274_knife_edge_sliver_is_announced(monkeypatch):
     # a sliver of a wedge's knife edge inside an offset torus (volume 0.002, a tenth of it kept at
     # voxel 0.087): its faces are not parallel, so the wall measurement misses it; the sliver is a
     # local minimum of the field among the shell's samples, measured on a finer grid
-    case, t, keep, text = _announced_feature(1274)
+    case, t, keep, text = _announced_feature(1274, monkeypatch)
     assert 0.3 * case.voxel_size < t < case.voxel_size
     assert "torus_0 and wedge_1" in text
 
 
 @pytest.mark.parametrize("seed, facets", [(3132, ("capsule_2", "cone_0", "sphere_1")), (3370, ("extrude_1",)),
                                           (5071, ("cone_0", "cone_1"))])
-def test_fuzz_specks_of_a_few_voxels_are_announced(seed, facets):
+def test_fuzz_specks_of_a_few_voxels_are_announced(seed, facets, monkeypatch):
     # parts of a few voxels' volume (0.0013-0.0039 at voxels 0.071-0.095) kept a tenth of it; each is
     # named by the facets that bound it
     # seed 3132: clip((cone & sphere) & (capsule & ellipsoid)); 3370: clip(offset(extrude & extrude, 0.078));
     # 5071: (affine(frustum) & cone) - offset(smooth_difference(capsule, cylinder, 0.17), 0.007)
-    case, t, keep, text = _announced_feature(seed)
+    case, t, keep, text = _announced_feature(seed, monkeypatch)
     assert all(f in text for f in facets)
 
 
-def test_the_voxel_told_keeps_the_speck():
+def test_the_voxel_told_keeps_the_speck(monkeypatch):
     # meshed at the voxel the warning tells, the speck's volume agrees with the Monte-Carlo volume
     # (the checker's tolerance: statistical, and half a voxel over the surface); at the coarse voxel
     # it did not
@@ -268,7 +270,7 @@ def test_the_voxel_told_keeps_the_speck():
 
     from fuzzcheck import mesh_case, volume_agrees
 
-    case, t, keep, text = _announced_feature(3132)
+    case, t, keep, text = _announced_feature(3132, monkeypatch)
     assert not volume_agrees(case, mesh_case(case), case.voxel_size)
     fine = replace(case, voxel_size=keep)
     assert volume_agrees(fine, mesh_case(fine), keep)
