@@ -23,7 +23,6 @@ Examples
 from __future__ import annotations
 
 import os
-import sys
 
 __all__ = ["install", "installed", "FULL_START"]
 
@@ -46,10 +45,9 @@ def install() -> None:
     """
     if os.environ.get(FULL_START) == "1" or _STATE["patched"]:
         return
-    if _CACHING in sys.modules:
-        _patch(sys.modules[_CACHING])
-    elif not any(isinstance(finder, _AfterCaching) for finder in sys.meta_path):
-        sys.meta_path.insert(0, _AfterCaching())
+    from ..after_import import after_import
+
+    after_import(_CACHING, _patch)
 
 
 def _patch(caching) -> None:
@@ -73,30 +71,3 @@ def _patch(caching) -> None:
     load_overload.__wrapped__ = original
     cache.load_overload = load_overload
     _STATE["patched"] = True
-
-
-class _AfterCaching:
-    """Finds nothing itself: wraps the loader of numba's cache module so that `_patch` runs after it."""
-
-    def find_spec(self, name, path=None, target=None):
-        if name != _CACHING:
-            return None
-        from importlib.machinery import PathFinder
-
-        sys.meta_path.remove(self)
-        spec = PathFinder.find_spec(name, path, target)
-        if spec is not None and spec.loader is not None:
-            spec.loader = _PatchAfter(spec.loader)
-        return spec
-
-
-class _PatchAfter:
-    def __init__(self, loader):
-        self.loader = loader
-
-    def create_module(self, spec):
-        return self.loader.create_module(spec)
-
-    def exec_module(self, module):
-        self.loader.exec_module(module)
-        _patch(module)

@@ -148,38 +148,15 @@ def quiet_vtk_when_loaded() -> None:
     package, so that VTK is silenced right after the package has run and before
     any of its modules does work.
     """
-    if _VTK in sys.modules:
-        quiet_vtk()
-        return
-    if not any(isinstance(finder, _QuietVTKFinder) for finder in sys.meta_path):
-        sys.meta_path.insert(0, _QuietVTKFinder())
+    from implicit.after_import import after_import
+
+    after_import(_VTK, _quiet_vtk_hook)
 
 
-class _QuietVTKFinder:
-    """Finds nothing itself: wraps the loader of the ``vtkmodules`` package so that `quiet_vtk` runs after it."""
-
-    def find_spec(self, name, path=None, target=None):
-        if name != _VTK:
-            return None
-        from importlib.machinery import PathFinder
-
-        sys.meta_path.remove(self)
-        spec = PathFinder.find_spec(name, path, target)
-        if spec is not None and spec.loader is not None:
-            spec.loader = _QuietAfter(spec.loader)
-        return spec
+def _quiet_vtk_hook(module):
+    quiet_vtk()
 
 
-class _QuietAfter:
-    def __init__(self, loader):
-        self.loader = loader
-
-    def create_module(self, spec):
-        return self.loader.create_module(spec)
-
-    def exec_module(self, module):
-        self.loader.exec_module(module)
-        quiet_vtk()
 _EPILOG = ("Model files: a .py model is a Python program and runs as such, with your rights (load only "
            "files you trust); a .json model (a CSG tree) never runs code and is the safe format to "
            "exchange.")
