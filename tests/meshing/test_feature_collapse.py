@@ -2,24 +2,16 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from meshcheck import min_area, topology, vertex_manifold
+from parts import benchmark_part, holed_plate
 
-from implicit import box, cylinder, sphere
 from spatial.meshing import mesh
 from spatial.meshing.feature_collapse import collapse_fans
 
-from meshcheck import min_area, topology, vertex_manifold
-
-BENCH = ((sphere(1.0) & box(1.5)) - cylinder(0.5, 4.0, axis=(1, 0, 0)) - cylinder(0.5, 4.0, axis=(0, 1, 0))
-         - cylinder(0.5, 4.0, axis=(0, 0, 1)))
-
-
-def plate():
-    p = box((10.0, 6.0, 0.5))
-    for i in range(3):
-        for j in range(2):
-            p = p - cylinder(0.6, 2.0, center=(-3.0 + 3.0 * i, -1.5 + 3.0 * j, 0.0))
-    return p
+BENCH = benchmark_part()
+plate = holed_plate
 
 
 @pytest.mark.parametrize("make, n", [(lambda: BENCH, 24), (lambda: BENCH, 40), (plate, 48), (plate, 64)])

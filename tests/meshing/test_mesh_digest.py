@@ -13,8 +13,9 @@ import hashlib
 
 import numpy as np
 import pytest
+from parts import benchmark_part, holed_plate
 
-from implicit import box, capsule, cylinder, smooth_union, sphere, translate
+from implicit import capsule, smooth_union, sphere, translate
 from spatial import mesh
 from spatial.meshing.arrays import faces_array
 
@@ -42,17 +43,7 @@ def _lex_less(p, q):
     return (p[:, 0] < q[:, 0]) | ((p[:, 0] == q[:, 0]) & ((p[:, 1] < q[:, 1]) | ((p[:, 1] == q[:, 1]) & (p[:, 2] < q[:, 2]))))
 
 
-def _bench():
-    return (sphere(1) & box(1.5)) - cylinder(0.5, 4, axis=(1, 0, 0)) - cylinder(0.5, 4, axis=(0, 1, 0)) \
-        - cylinder(0.5, 4, axis=(0, 0, 1))
-
-
-def _plate():
-    plate = box((10.0, 6.0, 0.5))
-    for i in range(3):
-        for j in range(2):
-            plate = plate - cylinder(0.6, 2.0, center=(-3.0 + 3.0 * i, -1.5 + 3.0 * j, 0.0))
-    return plate
+_bench, _plate = benchmark_part, holed_plate
 
 
 def _blobs():
