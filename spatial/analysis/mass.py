@@ -157,10 +157,15 @@ def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher
         tolerance = tol
     from .mass_solid import _solid_raw
 
+    # The levels it chooses itself are meshed with their sharp edges rebuilt (or a mesher that says it
+    # rebuilds them); a resolution, a mesher or a cluster's moments keep the plain meshes' extrapolation.
+    features = (cells is None and mesher is None and moments is None) or bool(getattr(mesher, "features", False))
     raw, h, n, note = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher, wall=min_wall,
-                                 moments=moments)
-    return _finish(raw, density, units, h, f"solid: corrected marching cubes at {n // 4}, {n // 2}, {n} "
-                                           f"cells + Richardson{note}")
+                                 moments=moments, features=features)
+    how = ("meshes with sharp edges rebuilt", "the finest level, error from the steps") if features else \
+        ("marching cubes", "Richardson")
+    return _finish(raw, density, units, h, f"solid: corrected {how[0]} at {n // 4}, {n // 2}, {n} "
+                                           f"cells + {how[1]}{note}")
 
 
 def _default_mesher():

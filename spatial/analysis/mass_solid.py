@@ -15,7 +15,10 @@ from .mass_area import true_area
 from .mass_core import (_EPS, MAX_CELLS, MAX_WALL_CELLS, MIN_CELLS, SAFETY, WALL_CELLS, ToleranceError,
                         _check_closed, _corners, _faces_array, _moments_of, _Raw)
 
-__all__ = ["shell_correction", "default_mesher", "level_moments"]
+__all__ = ["shell_correction", "default_mesher", "feature_mesher", "level_moments"]
+
+#: Safety factor of the feature meshes' error estimate (`_feature_estimate`).
+FEATURE_SAFETY = 4.0
 
 
 def default_mesher():
@@ -32,6 +35,25 @@ def default_mesher():
 
     def mesher(solid, h):
         return mesh(solid, voxel_size=h, progress=None, features=False)
+    return mesher
+
+
+def feature_mesher(progress=None):
+    """``mesher(solid, h) -> PolyData``: `spatial.meshing.mesh` with its sharp edges and corners rebuilt.
+
+    The mesher of `mass_properties` when it chooses its own levels: with the
+    edges rebuilt the thin-shell corrected volume converges as h^3 on parts
+    with sharp edges (h^4 on smooth ones) where the plain mesh's bevels leave
+    an uneven h^2 (a 100 x 100 x 1 plate: 1.1e-6 against 1.6e-4 at 480
+    cells), so a thin plate meets 1e-4 at the cells its wall asks for.  Its
+    error follows no single power of h (the chord terms of curved faces and
+    the rebuilt edges mix), hence its own estimate, `_feature_estimate`.
+    """
+    from ..meshing.boundary import mesh
+
+    def mesher(solid, h):
+        return mesh(solid, voxel_size=h, progress=progress, features=True)
+    mesher.features = True
     return mesher
 
 
@@ -231,7 +253,7 @@ def _kernels():
     return _KERNELS[0]
 
 
-def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None, moments=None):
+def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None, moments=None, features=False):
     """Richardson-extrapolated raw moments of a solid, with an error estimate.
 
     With `cells` fixed, meshes at ``cells/4``, ``cells/2`` and ``cells``.
@@ -249,11 +271,15 @@ def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None, mom
         note on the levels (why they were refined, or "").
 
     `moments(solid, h, c0)`, when given, computes a level's raw moments in
-    place of meshing it here.
+    place of meshing it here.  With `features` the levels are meshed with
+    their sharp edges rebuilt (`feature_mesher`, unless `mesher` or
+    `moments` is given) and estimated by `_feature_estimate` in place of
+    Richardson's extrapolation; the levels asked are the same.
     """
     from ..cells.thickness import min_feature_size
 
-    mesher = mesher or default_mesher()
+    mesher = mesher or (feature_mesher() if features else default_mesher())
+    extrapolate = _feature_estimate if features else _extrapolate
     if moments is None:
         def moments(solid, h, c0):
             return _solid_level(solid, h, c0, mesher)
@@ -281,7 +307,7 @@ def _solid_raw(solid, *, cells=None, tolerance=None, mesher=None, wall=None, mom
     vecs = [_coarse_level(solid, extent / n, c0, moments) for n in levels[:-1]]
     vecs.append(moments(solid, extent / levels[-1], c0))
     while True:
-        est, err = _extrapolate(vecs)
+        est, err = extrapolate(vecs)
         err = _honest(est, err, lo, hi, c0)
         if cells is not None or err[0] <= tolerance * abs(est[0]):
             break
@@ -314,6 +340,32 @@ def _honest(est, err, lo, hi, c0):
     scale = np.concatenate([[abs(est[0])], abs(est[0]) * half, abs(est[0]) * np.outer(half, half).ravel(),
                             [abs(est[13])]])
     return np.maximum(out, 64 * _EPS * scale)
+
+
+def _feature_estimate(vecs):
+    """The finest level's moments, unextrapolated, and an error estimate that
+    holds for any rate of convergence from h^0.5 to h^4.
+
+    With ``d1 = Q_N - Q_{N/2}`` and ``d2 = Q_{N/2} - Q_{N/4}``, a clean law
+    ``e = C h^p`` gives ``e_N = d1 / (2^p - 1)``: the rate is read from
+    ``d2 / d1`` but taken between 1 and 2 (an apparent h^3 or h^4 claims no
+    more than h^2), times `FEATURE_SAFETY`.  Under it stands
+    ``sqrt(|d1 d2|) = e_N (2^p - 1) 2^(p/2)``, at least ``e_N`` for any
+    p >= 0.5, for where the finest two levels agree by chance: a plate's
+    rebuilt edges fall differently on each lattice, and its error does not
+    always shrink from one level to the next (-1.6e-6, -1.1e-6 of the
+    100 x 100 x 1 plate's volume at 240 and 480 cells).
+    """
+    q4, q2, q1 = vecs[-3], vecs[-2], vecs[-1]
+    d1, d2 = q1 - q2, q2 - q4
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(d1 * d2 > 0, d2 / d1, 2.0)
+    ratio = np.clip(np.nan_to_num(ratio, nan=2.0, posinf=4.0), 2.0, 4.0)
+    err = np.maximum(FEATURE_SAFETY * np.abs(d1) / (ratio - 1.0), np.sqrt(np.abs(d1 * d2)))
+    est = q1.copy()
+    # the area as in `_extrapolate`: the finest level's, three times its step or the step below
+    err[13] = max(3.0 * abs(d1[13]), abs(d2[13]))
+    return est, err
 
 
 def _coarse_level(solid, h, c0, moments):
