@@ -1,7 +1,8 @@
 """`implicad mass MODEL`: volume, mass, area, centroid and inertia with error bounds.
 
-A model file (``.py`` / ``.json``) is meshed and integrated with Richardson
-extrapolation (see `spatial.analysis.mass`); a mesh file (``.stl``, ``.ply``, ``.obj``,
+A model file (``.py`` / ``.json``) is meshed and integrated at levels chosen for
+the tolerance (meshes with sharp edges rebuilt), or at ``--resolution`` /
+``--voxel-size`` with Richardson extrapolation (see `spatial.analysis.mass`); a mesh file (``.stl``, ``.ply``, ``.obj``,
 ``.vtp``, ``.vtk``) is integrated exactly.  ``--json`` prints one object with
 ``volume``, ``mass``, ``area``, ``centroid``, ``inertia``, ``inertia_origin``,
 ``principal_moments``, ``principal_axes``, ``error`` (same keys, absolute
@@ -113,8 +114,14 @@ def run(args) -> int:
         from .common import progress_of
 
         progress = progress_of(args)
-        # the plain mesh, as mass_properties' own mesher (see analysis.mass_solid.default_mesher)
-        kw["mesher"] = lambda solid, h: _mesh(solid, voxel_size=h, progress=progress, features=False)
+        if "resolution" in kw or "voxel_size" in kw:
+            # the plain mesh, as mass_properties' own mesher at a given cell size (analysis.mass_solid.default_mesher)
+            kw["mesher"] = lambda solid, h: _mesh(solid, voxel_size=h, progress=progress, features=False)
+        else:
+            # the levels it chooses itself: sharp edges rebuilt, as mass_properties does (feature_mesher)
+            from ..analysis.mass_solid import feature_mesher
+
+            kw["mesher"] = feature_mesher(progress)
     from ..analysis.mass import ToleranceError
 
     try:
