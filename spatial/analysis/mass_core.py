@@ -15,11 +15,13 @@ absolute error bound (or estimate, see below) for every quantity.
   order).  The error is a rigorous bound: the true solid lies between the FULL
   cells and the FULL plus BOUNDARY cells.
   (`spatial.analysis.mass_cells`)
-* Solids are meshed (marching cubes, vertices on the surface) at ``N/4``,
-  ``N/2`` and ``N`` cells across, each mesh corrected by the thin shell
-  between it and the true surface, and the integrals are
-  Richardson-extrapolated, ``(4 Q_N - Q_{N/2}) / 3``; the error estimate
-  comes from the same sequence one level further down with a safety factor
+* Solids are meshed (vertices on the surface) at ``N/4``, ``N/2`` and ``N``
+  cells across, each mesh corrected by the thin shell between it and the
+  true surface.  Levels chosen for a tolerance have their sharp edges
+  rebuilt and report the finest level with an estimate from the steps
+  between levels; at a given resolution plain marching-cubes integrals are
+  Richardson-extrapolated, ``(4 Q_N - Q_{N/2}) / 3``, the error estimate from
+  the same sequence one level further down with a safety factor
   (`spatial.analysis.mass_solid`).
 
 Everything here works on the raw moments of the solid about a reference point

@@ -1,10 +1,14 @@
-"""Mass properties of solids: corrected marching-cubes meshes, extrapolated.
+"""Mass properties of solids: corrected meshes at three levels, and their error.
 
 Each level meshes the solid (`spatial.meshing.mesh`), integrates the mesh
 exactly (divergence theorem) and adds the thin shell between the mesh and the
-true surface (`shell_correction`); levels at ``N/4``, ``N/2`` and ``N``
-cells are Richardson-extrapolated and the spread of the extrapolations gives
-the error estimate.  `spatial.analysis.mass.mass_properties` is the entry point.
+true surface (`shell_correction`).  Levels at ``N/4``, ``N/2`` and ``N`` cells
+chosen for a tolerance are meshed with sharp edges rebuilt (`feature_mesher`)
+and the finest is reported with an estimate from the steps between them
+(`_feature_estimate`); plain marching-cubes levels (a given resolution, a
+cluster's bricks) are Richardson-extrapolated and the spread of the
+extrapolations gives the error estimate (`_extrapolate`).
+`spatial.analysis.mass.mass_properties` is the entry point.
 """
 
 from __future__ import annotations

@@ -133,3 +133,19 @@ def test_boxes_and_thin_plates_are_bracketed(thin, wide, ax, ay, shift, scale):
     b = c + (a - c) * wide
     solid, ex = placed_box((a, b, c), ax, ay, np.array(shift) * scale)
     assert_brackets(mass_properties(solid, tolerance=1e-3), ex, 1e-3)
+
+
+def test_the_mass_command_measures_at_the_chosen_levels(tmp_path, capsys):
+    import json
+
+    from spatial.cli import main
+
+    model = tmp_path / "boss.py"
+    model.write_text("from implicit import box\nsolid = box((4.0, 4.0, 1.0)) | box((1.0, 1.0, 1.0), "
+                     "center=(0.0, 0.0, 1.0))\n")
+    assert main(["mass", str(model), "--json", "--quiet"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert "sharp edges rebuilt" in out["method"]
+    assert abs(out["volume"] - 17.0) <= out["error"]["volume"] <= 1e-4 * 17.0
+    assert main(["mass", str(model), "--json", "--quiet", "--resolution", "32"]) == 0
+    assert "Richardson" in json.loads(capsys.readouterr().out)["method"]
