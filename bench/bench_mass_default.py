@@ -25,9 +25,9 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
-import implicit as I  # noqa: E402
-from spatial.analysis import mass_solid  # noqa: E402
-from spatial.analysis.mass import ToleranceError, mass_properties  # noqa: E402
+import implicit as I
+from spatial.analysis import mass_solid
+from spatial.analysis.mass import ToleranceError, mass_properties
 
 
 def parts():

@@ -38,7 +38,7 @@ def _kind(obj) -> str:
 def mass_properties(obj, *, density: float = 1.0, units: str = "m",
                     tolerance: float | None = None, voxel_size: float | None = None,
                     resolution: int | None = None, solid=None, mesher=None,
-                    min_wall: float | None = None, moments=None) -> MassProperties:
+                    min_wall: float | None = None, moments=None, progress=None) -> MassProperties:
     """Volume, mass, area, centroid and inertia of a solid, with error bounds.
 
     Parameters
@@ -63,8 +63,8 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
         (default the octree's own ``solid`` attribute when it has one).
     mesher : callable, optional
         ``mesher(solid, h) -> PolyData``; default `spatial.meshing.mesh`
-        (a progress bar on a terminal), with sharp edges rebuilt when the
-        levels follow a tolerance, plain at a resolution (see Notes).
+        with sharp edges rebuilt when the levels follow a tolerance of at
+        least `mass_solid.FEATURE_FLOOR`, plain otherwise (see Notes).
     min_wall : float, optional
         Solids only: the thinnest wall the meshes must hold (default
         `spatial.cells.thickness.min_feature_size` of the tree); the
@@ -73,6 +73,9 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
         Solids only: ``moments(solid, h, center) -> (14,)`` raw moments of a
         level's corrected mesh (`mass_solid.level_moments`), computed
         elsewhere -- `spatial.distributed` sums them over bricks on a cluster.
+    progress : bool or None
+        Solids only: the default meshers' progress bar (None: only on a
+        terminal), as `spatial.meshing.mesh`'s.
 
     Returns
     -------
@@ -91,11 +94,13 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
     per raw moment (``d1 = Q_N - Q_{N/2}``, ``d2 = Q_{N/2} - Q_{N/4}``, ``r``
     their ratio taken between 2 and 4), the volume's at least
     `mass_solid.FEATURE_FLOOR` of it: a 100 x 100 x 1 plate meets 1e-4
-    at 480 cells, where the plain mesh's bevels are refused.
+    at 480 cells, where the plain mesh's bevels are refused.  A thin part's
+    levels may go one beyond `MAX_CELLS` while the level's triangles fit
+    `mass_solid.FEATURE_TRIANGLES`.
 
-    With a `resolution` or `voxel_size`, a `mesher` (unless it has a true
-    ``features`` attribute, as `feature_mesher`'s) or `moments` (a cluster's
-    bricks, never fused for the feature pass), the meshes are plain marching
+    With a `resolution` or `voxel_size`, a `mesher`, `moments` (a cluster's
+    bricks, never fused for the feature pass) or a tolerance below
+    `mass_solid.FEATURE_FLOOR`, the meshes are plain marching
     cubes (fourth order on smooth surfaces, second order at sharp edges with
     the correction) and the raw moments are extrapolated,
     ``(4 Q_N - Q_{N/2}) / 3``, with the estimate
@@ -138,16 +143,22 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
         sol = solid if solid is not None else getattr(obj, "solid", None)
         raw, h = _octree_raw(obj, sol)
         return _finish(raw, density, units, h, "octree (exact FULL cells, fractional BOUNDARY cells)")
+    if progress is not None and not isinstance(progress, (bool, np.bool_)):
+        raise TypeError(f"progress: expected True, False or None, got {progress!r}")
+    if progress is not None and kind != "solid":
+        raise ValueError(f"progress: only applies to a Solid; a {kind} is integrated as it is")
     if min_wall is not None:
         if kind != "solid":
             raise ValueError(f"min_wall: only applies to a Solid; a {kind} is integrated as it is")
         from implicit.solid import as_positive
 
         min_wall = as_positive(min_wall, "min_wall")
-    return _solid_mass(obj, density, units, tolerance, voxel_size, resolution, mesher, min_wall, moments)
+    return _solid_mass(obj, density, units, tolerance, voxel_size, resolution, mesher, min_wall, moments,
+                       progress)
 
 
-def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher, min_wall=None, moments=None):
+def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher, min_wall=None, moments=None,
+                progress=None):
     if not solid.is_bounded:
         raise ValueError("solid: expected a bounded solid, got infinite bounds (intersect it with a box)")
     if solid.is_empty_bounds:
@@ -173,11 +184,14 @@ def _solid_mass(solid, density, units, tolerance, voxel_size, resolution, mesher
         if tol >= 1:
             raise ValueError(f"tolerance: expected a relative error below 1, got {tol:g}")
         tolerance = tol
-    from .mass_solid import _solid_raw
+    from .mass_solid import FEATURE_FLOOR, _solid_raw, default_mesher, feature_mesher
 
-    # The levels it chooses itself are meshed with their sharp edges rebuilt (or a mesher that says it
-    # rebuilds them); a resolution, a mesher or a cluster's moments keep the plain meshes' extrapolation.
-    features = (cells is None and mesher is None and moments is None) or bool(getattr(mesher, "features", False))
+    # The levels it chooses itself are meshed with their sharp edges rebuilt, unless the tolerance lies
+    # below what their estimate claims; a resolution, a mesher or a cluster's moments keep the plain
+    # meshes' extrapolation.
+    features = cells is None and mesher is None and moments is None and tolerance >= FEATURE_FLOOR
+    if mesher is None:
+        mesher = feature_mesher(progress) if features else default_mesher(progress)
     raw, h, n, note = _solid_raw(solid, cells=cells, tolerance=tolerance, mesher=mesher, wall=min_wall,
                                  moments=moments, features=features)
     how = ("meshes with sharp edges rebuilt", "the finest level, error from the steps") if features else \

@@ -2,8 +2,8 @@
 
 A model file (``.py`` / ``.json``) is meshed and integrated at levels chosen for
 the tolerance (meshes with sharp edges rebuilt), or at ``--resolution`` /
-``--voxel-size`` with Richardson extrapolation (see `spatial.analysis.mass`); a mesh file (``.stl``, ``.ply``, ``.obj``,
-``.vtp``, ``.vtk``) is integrated exactly.  ``--json`` prints one object with
+``--voxel-size`` with Richardson extrapolation (see `spatial.analysis.mass`); a
+mesh file (``.stl``, ``.ply``, ``.obj``, ``.vtp``, ``.vtk``) is integrated exactly.  ``--json`` prints one object with
 ``volume``, ``mass``, ``area``, ``centroid``, ``inertia``, ``inertia_origin``,
 ``principal_moments``, ``principal_axes``, ``error`` (same keys, absolute
 bounds), ``voxel_size``, ``units`` and ``density``.
@@ -110,18 +110,9 @@ def run(args) -> int:
         raise ValueError(f"{args.model}: a mesh file is integrated exactly; --voxel-size, --resolution and "
                          "--tolerance apply to model files only")
     if isinstance(target, Solid):
-        from ..meshing import mesh as _mesh
         from .common import progress_of
 
-        progress = progress_of(args)
-        if "resolution" in kw or "voxel_size" in kw:
-            # the plain mesh, as mass_properties' own mesher at a given cell size (analysis.mass_solid.default_mesher)
-            kw["mesher"] = lambda solid, h: _mesh(solid, voxel_size=h, progress=progress, features=False)
-        else:
-            # the levels it chooses itself: sharp edges rebuilt, as mass_properties does (feature_mesher)
-            from ..analysis.mass_solid import feature_mesher
-
-            kw["mesher"] = feature_mesher(progress)
+        kw["progress"] = progress_of(args)       # the meshers mass_properties picks (sharp edges or plain)
     from ..analysis.mass import ToleranceError
 
     try:

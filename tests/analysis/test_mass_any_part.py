@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import implicit as I
-from spatial.analysis.mass import mass_properties
+from spatial.analysis.mass import ToleranceError, mass_properties
 
 BENCH = ((I.sphere(1.0) & I.box(1.5)) - I.cylinder(0.5, 4, axis=(1, 0, 0)) - I.cylinder(0.5, 4, axis=(0, 1, 0))
          - I.cylinder(0.5, 4, axis=(0, 0, 1)))
@@ -31,7 +31,8 @@ class Exact:
         self.m1 += sign * V * c
         self.M2 += sign * (V * np.outer(c, c) + own)
 
-    def box(self, sides, centre=(0.0, 0.0, 0.0), rotation=np.eye(3), sign=1.0):
+    def box(self, sides, centre=(0.0, 0.0, 0.0), rotation=None, sign=1.0):
+        rotation = np.eye(3) if rotation is None else rotation
         s = np.asarray(sides, dtype=float)
         V = float(np.prod(s))
         self._add(V, centre, rotation @ np.diag(V * s * s / 12.0) @ rotation.T, sign)
@@ -116,9 +117,28 @@ def test_reference_parts_with_no_options(name):
     assert_brackets(mass_properties(solid), ex, 1e-4)
 
 
-def test_a_resolution_keeps_the_plain_extrapolation():
+def test_a_resolution_or_a_tight_tolerance_keeps_the_plain_extrapolation():
     p = mass_properties(I.box((1.0, 0.7, 0.4)), resolution=32)
     assert "Richardson" in p.method and abs(p.volume - 0.28) <= p.error.volume
+    p = mass_properties(I.sphere(1.0), tolerance=1e-5)     # below the feature levels' floor
+    assert "Richardson" in p.method and abs(p.volume - 4 * np.pi / 3) <= p.error.volume <= 1e-5 * p.volume
+    with pytest.raises(TypeError, match="progress"):
+        mass_properties(I.sphere(1.0), progress="yes")
+
+
+def test_a_thin_part_may_take_levels_beyond_the_cells_allowed_while_they_fit(monkeypatch):
+    import spatial.analysis.mass_solid as ms
+
+    plate = I.box((10.0, 10.0, 0.5))               # its wall sets the levels: 24, 48, 96 cells
+    monkeypatch.setattr(ms, "MAX_CELLS", 32)
+    monkeypatch.setattr(ms, "FEATURE_FLOOR", 0.0)
+    monkeypatch.setattr(ms, "FEATURE_TRIANGLES", 500_000)     # 192 cells: 0.28 M estimated, 384: 1.1 M
+    with pytest.raises(ToleranceError, match="at 192 cells") as info:
+        mass_properties(plate, tolerance=1e-12)
+    assert info.value.estimate < 1e-4
+    monkeypatch.setattr(ms, "FEATURE_TRIANGLES", 100_000)
+    with pytest.raises(ToleranceError, match="at 96 cells"):
+        mass_properties(plate, tolerance=1e-12)
 
 
 @settings(max_examples=8, deadline=None, derandomize=True,
