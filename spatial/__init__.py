@@ -101,8 +101,10 @@ def mass_properties(obj, *, client=None, workers=None, **options):
     """Mass properties with error bounds: `spatial.analysis.mass_properties`, or on a Dask cluster.
 
     With ``client=`` or ``workers=`` a Solid's meshes are integrated brick
-    by brick on the cluster (`spatial.distributed.mass_properties`); the
-    result agrees with the single-process one to rounding.
+    by brick on the cluster (`spatial.distributed.mass_properties`); at a
+    resolution the result agrees with the single-process one to rounding
+    (with a tolerance the cluster asks the same levels, meshed plain: its
+    bricks are never fused for the sharp-edge pass).
 
     Examples
     --------

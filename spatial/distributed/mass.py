@@ -109,7 +109,9 @@ def mass_properties(solid, *, client=None, workers=None, density=1.0, units="m",
     density, units, tolerance, voxel_size, resolution
         See `spatial.analysis.mass_properties`; with neither `voxel_size`
         nor `resolution` the levels are those the single-process path
-        chooses (from the part's size and its thinnest wall).
+        chooses (from the part's size and its thinnest wall), meshed plain
+        and extrapolated (the single process rebuilds their sharp edges,
+        which needs the whole mesh).
     brick, block
         See `spatial.distributed.mesh`.
     hold_meshes : bool
