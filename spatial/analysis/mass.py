@@ -95,7 +95,7 @@ def mass_properties(obj, *, density: float = 1.0, units: str = "m",
     their ratio taken between 2 and 4), the volume's at least
     `mass_solid.FEATURE_FLOOR` of it: a 100 x 100 x 1 plate meets 1e-4
     at 480 cells, where the plain mesh's bevels are refused.  A thin part's
-    levels may go one beyond `MAX_CELLS` while the level's triangles fit
+    levels may go beyond `MAX_CELLS` while a level's estimated triangles fit
     `mass_solid.FEATURE_TRIANGLES`.
 
     With a `resolution` or `voxel_size`, a `mesher`, `moments` (a cluster's
