@@ -22,7 +22,7 @@ from .model import SIDE_NODES
 from .quality import dihedral_angles
 from .score_kernel import element_scores, moved_scores
 
-__all__ = ["boundary_faces", "element_score", "flip23", "improve", "peel", "score"]
+__all__ = ["boundary_faces", "element_score", "flip23", "improve", "peel", "remove_edges", "score", "split_edges"]
 
 #: The two corners shared by sides i and j (``_SIDE_COMMON[i, j]``).
 _SIDE_COMMON = np.array([[sorted(set(SIDE_NODES[i]) & set(SIDE_NODES[j])) if i != j else [0, 0]
@@ -265,3 +265,216 @@ def flip23(points, tets, min_dihedral, max_dihedral, radius_edge=None, rounds=4)
 
 #: Corners of the face opposite each corner.
 _OPPOSITE = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]])
+
+
+def _triangulations(verts):
+    """Every triangulation of the polygon `verts` (a list), as lists of vertex triples."""
+    if len(verts) < 3:
+        return [[]]
+    out = []
+    # The triangle on the side (first, last) has its apex at some j; the two sides of it recurse.
+    for j in range(1, len(verts) - 1):
+        for left in _triangulations(verts[:j + 1]):
+            for right in _triangulations(verts[j:]):
+                out.append(left + right + [(verts[0], verts[j], verts[-1])])
+    return out
+
+
+#: Largest ring the edge removal tries (its triangulations: 1, 2, 5, 14 for rings of 3 .. 6).
+EDGE_RING_MAX = 6
+_TRIANGULATIONS = {k: np.array(_triangulations(list(range(k))), dtype=np.int64) for k in range(3, EDGE_RING_MAX + 1)}
+
+
+def _edge_rings(tets, edges):
+    """The elements around each interior edge ``(e, 2)`` of `edges` and the ring of their far vertices.
+
+    Returns ``{k: (edge rows, elements (r, k), ring vertices (r, k) in cyclic order)}`` for the
+    edges with a closed ring of k elements, 3 <= k <= `EDGE_RING_MAX` (edges on the boundary
+    have an open ring and are left out).
+    """
+    m = len(tets)
+    n = int(tets.max(initial=0)) + 1
+    pairs = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]])
+    others = np.array([[2, 3], [1, 3], [1, 2], [0, 3], [0, 2], [0, 1]])
+    ea = np.sort(tets[:, pairs], axis=2).reshape(-1, 2)
+    code = ea[:, 0] * n + ea[:, 1]
+    want = edges[:, 0] * n + edges[:, 1]
+    sel = np.nonzero(np.isin(code, want))[0]
+    order = np.argsort(code[sel], kind="stable")
+    sel = sel[order]
+    cs = code[sel]
+    row_of = np.searchsorted(np.sort(want), cs)
+    uniq_w, first_w = np.unique(want, return_index=True)
+    edge_row = first_w[np.searchsorted(uniq_w, cs)]
+    start = np.r_[0, np.nonzero(cs[1:] != cs[:-1])[0] + 1]
+    count = np.diff(np.r_[start, cs.size])
+    del row_of
+    out = {}
+    tet_of = sel // 6
+    link = tets[tet_of[:, None], others[sel % 6]]  # (s, 2) the far edge of each element
+    for k in range(3, EDGE_RING_MAX + 1):
+        g = np.nonzero(count == k)[0]
+        if g.size == 0:
+            continue
+        idx = start[g][:, None] + np.arange(k)[None, :]
+        lk = link[idx]  # (r, k, 2)
+        el = tet_of[idx]
+        # Walk the ring: from the first element's far edge, each next element holds the last vertex.
+        ring = np.empty((g.size, k), dtype=np.int64)
+        ring[:, 0], ring[:, 1] = lk[:, 0, 0], lk[:, 0, 1]
+        used = np.zeros((g.size, k), dtype=bool)
+        used[:, 0] = True
+        elems = np.empty((g.size, k), dtype=np.int64)
+        elems[:, 0] = el[:, 0]
+        ok = np.ones(g.size, dtype=bool)
+        rows = np.arange(g.size)
+        for j in range(1, k):
+            last = ring[:, j]
+            hit = ((lk[:, :, 0] == last[:, None]) | (lk[:, :, 1] == last[:, None])) & ~used
+            ok &= hit.sum(axis=1) == 1
+            nxt = hit.argmax(axis=1)
+            used[rows, nxt] = True
+            elems[:, j] = el[rows, nxt]
+            far = np.where(lk[rows, nxt, 0] == last, lk[rows, nxt, 1], lk[rows, nxt, 0])
+            if j < k - 1:
+                ring[:, j + 1] = far
+            else:
+                ok &= far == ring[:, 0]  # closed: the edge is interior
+        out[k] = (edge_row[start[g]][ok], elems[ok], ring[ok])
+    return out
+
+
+def remove_edges(points, tets, min_dihedral, max_dihedral, radius_edge=None, rounds=4):
+    """Remove interior edges of bad elements: the k elements around an edge are replaced by the
+    2(k - 2) elements joining its two ends to a triangulation of the ring of their far vertices
+    (3-2 flips for k = 3, 4-4 for k = 4, up to k = `EDGE_RING_MAX`), where that raises the worst
+    score of the ring.
+
+    Only interior edges go, so the boundary stays as it is.  Each round takes an
+    independent set of removals (no element in two), best gains first.  Returns
+    the new elements and the number of edges removed.
+
+    References
+    ----------
+    J. R. Shewchuk, "Two discrete optimization algorithms for the topological improvement
+    of tetrahedral meshes", 2002 (edge removal).
+
+    Examples
+    --------
+    >>> p = np.array([[0, 0, -1], [0, 0, 1], [0.5, 0, 0], [-0.25, 0.433, 0], [-0.25, -0.433, 0]])
+    >>> t = np.array([[0, 1, 2, 3], [0, 1, 3, 4], [0, 1, 4, 2]])  # three needles around the edge 0-1
+    >>> new, removed = remove_edges(p, t, 10.0, 170.0)
+    >>> removed, len(new)
+    (1, 2)
+    """
+    tets = np.asarray(tets, dtype=np.int64)
+    total = 0
+    target = min_dihedral + 1.0
+    for _ in range(rounds):
+        sc = element_score(points, tets, min_dihedral, max_dihedral, radius_edge)
+        bad = np.nonzero(sc < target)[0]
+        if bad.size == 0:
+            break
+        pairs = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]])
+        edges = np.unique(np.sort(tets[bad][:, pairs].reshape(-1, 2), axis=1), axis=0)
+        rings = _edge_rings(tets, edges)
+        ops_old, ops_new, ops_gain = [], [], []
+        for k, (erow, elems, ring) in rings.items():
+            if erow.size == 0:
+                continue
+            a, b = edges[erow, 0], edges[erow, 1]
+            old = sc[elems].min(axis=1)
+            tri = _TRIANGULATIONS[k]  # (T, k - 2, 3)
+            r = ring[:, tri]  # (e, T, k - 2, 3)
+            e_, t_ = r.shape[0], r.shape[1]
+            ta = np.concatenate([np.broadcast_to(a[:, None, None, None], r.shape[:3] + (1,)), r], axis=3)
+            tb = np.concatenate([np.broadcast_to(b[:, None, None, None], r.shape[:3] + (1,)), r], axis=3)
+            va = _orient(points, ta.reshape(-1, 4)).reshape(e_, t_, k - 2)
+            vb = _orient(points, tb.reshape(-1, 4)).reshape(e_, t_, k - 2)
+            # Valid: every triangle of the ring separates the two ends (a on one side, b on the other).
+            pos = (va > 0).all(axis=2) & (vb < 0).all(axis=2)
+            neg = (va < 0).all(axis=2) & (vb > 0).all(axis=2)
+            valid = pos | neg
+            if not valid.any():
+                continue
+            ta = np.where(neg[:, :, None, None], ta[..., [1, 0, 2, 3]], ta)
+            tb = np.where(pos[:, :, None, None], tb[..., [1, 0, 2, 3]], tb)
+            new = np.concatenate([ta, tb], axis=2)  # (e, T, 2(k - 2), 4)
+            nsc = element_score(points, new.reshape(-1, 4), min_dihedral, max_dihedral,
+                                radius_edge).reshape(e_, t_, -1).min(axis=2)
+            nsc = np.where(valid, nsc, -np.inf)
+            best = nsc.argmax(axis=1)
+            gain = nsc[np.arange(e_), best] - old
+            ok = gain > 1e-6
+            if not ok.any():
+                continue
+            ops_old.extend(elems[ok])
+            ops_new.extend(new[np.arange(e_), best][ok])
+            ops_gain.extend(gain[ok])
+        if not ops_gain:
+            break
+        gain = np.asarray(ops_gain)
+        # Independent set: a removal goes ahead when it is the best of every removal touching its elements.
+        key = gain * (1 + 1e-9) + np.arange(gain.size) * 1e-12
+        best = np.full(len(tets), -np.inf)
+        olds = [np.asarray(o) for o in ops_old]
+        flat_old = np.concatenate(olds)
+        op_of = np.repeat(np.arange(gain.size), [o.size for o in olds])
+        np.maximum.at(best, flat_old, key[op_of])
+        won = np.ones(gain.size, dtype=bool)
+        np.logical_and.at(won, op_of, best[flat_old] == key[op_of])
+        take = np.nonzero(won)[0]
+        keep = np.ones(len(tets), dtype=bool)
+        keep[np.concatenate([olds[i] for i in take])] = False
+        tets = np.concatenate([tets[keep]] + [np.asarray(ops_new[i]) for i in take])
+        total += int(take.size)
+    return tets, total
+
+
+def split_edges(points, tets, edges):
+    """Insert a point at the middle of each interior edge ``(e, 2)`` (no two in one element): every
+    element around an edge is cut in two.  Returns new points (the middles appended) and elements.
+
+    The halves keep their element's orientation and half its volume; the new points are free to
+    be smoothed (the last resort for a sliver whose nodes all lie on the boundary).
+
+    Examples
+    --------
+    >>> p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    >>> q, t = split_edges(p, np.array([[0, 1, 2, 3]]), np.array([[0, 1]]))
+    >>> q[-1].tolist(), t.tolist()
+    ([0.5, 0.0, 0.0], [[4, 1, 2, 3], [0, 4, 2, 3]])
+    """
+    tets = np.asarray(tets, dtype=np.int64)
+    edges = np.sort(np.asarray(edges, dtype=np.int64).reshape(-1, 2), axis=1)
+    if edges.size == 0:
+        return points, tets
+    n = points.shape[0]
+    code = np.unique(edges[:, 0] * n + edges[:, 1])
+    pairs = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]])
+    te = np.sort(tets[:, pairs], axis=2)
+    tcode = te[:, :, 0] * n + te[:, :, 1]  # (m, 6)
+    # One split per element: of edges sharing an element the one of smallest code goes ahead (two
+    # in one element would leave a hanging node on the neighbours' side).
+    while True:
+        pos = np.minimum(np.searchsorted(code, tcode), code.size - 1)
+        hit = code[pos] == tcode
+        many = np.nonzero(hit.sum(axis=1) > 1)[0]
+        if many.size == 0:
+            break
+        r = np.where(hit[many], pos[many], code.size)
+        r.sort(axis=1)
+        drop = np.unique(r[:, 1:][r[:, 1:] < code.size])
+        code = np.delete(code, drop)
+    t_idx, e_idx = np.nonzero(hit)
+    mid = n + pos[t_idx, e_idx]
+    new_pts = 0.5 * (points[code // n] + points[code % n])
+    i, j = pairs[e_idx, 0], pairs[e_idx, 1]
+    rows = np.arange(t_idx.size)
+    h1 = tets[t_idx].copy()
+    h2 = tets[t_idx].copy()
+    h1[rows, i] = mid
+    h2[rows, j] = mid
+    keep = np.ones(len(tets), dtype=bool)
+    keep[t_idx] = False
+    return np.concatenate([points, new_pts]), np.concatenate([tets[keep], h1, h2])
