@@ -24,7 +24,8 @@ import warnings
 import numpy as np
 
 from implicit.solid import Solid, as_positive
-from .facets import FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets
+from .facets import (FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets,
+                     value_and_gradient)
 from .surface_corners import exact_corners, snap_exact_corners
 from .surface_quality import (SurfaceQuality, _deviation, _edges, _is_closed_manifold, _normals, _polydata,  # noqa: F401
                               _triangle_angles, mesh_faces, self_intersections, surface_quality)
@@ -68,13 +69,11 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     a, b = a[cross], b[cross]
     if a.size == 0:
         return pts, 0
-    # Gradients at the ends of crossing edges only (each facet's at every vertex costs six walks of the tree).
-    ends = np.unique(np.concatenate([a, b]))
-    nrm = np.zeros((len(ff.names), n))
-    nrm[:, ends] = np.linalg.norm(ff.facet_gradients(pts[ends]), axis=2)  # (k, n)
-    # Distance estimate from each end to the other end's facet.
-    da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[dec[b], a], 1e-12)
-    db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[dec[a], b], 1e-12)
+    # Distance estimate from each end to the other end's facet (closed-form gradients of those two facets only).
+    grads = ff.gradients_of(np.concatenate([pts[a], pts[b]]), np.concatenate([dec[b], dec[a]]))
+    nrm = np.linalg.norm(grads, axis=1)
+    da = np.abs(fvals[dec[b], a]) / np.maximum(nrm[:a.size], 1e-12)
+    db = np.abs(fvals[dec[a], b]) / np.maximum(nrm[a.size:], 1e-12)
     # The nearer end moves (the farther one in `far` rounds, for edges whose nearer end
     # could not move without spoiling a triangle).
     pick_a = (da <= db) != far
@@ -291,26 +290,57 @@ def _outward(points, faces):
     return faces[:, ::-1].copy() if vol < 0 else faces
 
 
-def _tangential_relax(solid, points, faces, fixed, iterations=3):
-    """Move free vertices toward their neighbours' mean in the tangent plane, then reproject."""
-    n = points.shape[0]
+def _neighbour_mean_matrix(faces, n):
+    """Sparse ``(n, n)`` matrix taking vertex positions to the mean of each vertex's neighbours.
+
+    Every edge is counted once per triangle side it is (twice on a closed
+    surface), which weighs all neighbours alike.
+    """
+    from scipy.sparse import csr_matrix
+
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    e = np.concatenate([e, e[:, ::-1]])
-    deg = np.bincount(e[:, 0], minlength=n).astype(np.float64)
-    free = ~np.asarray(fixed, dtype=bool)
+    rows = np.concatenate([e[:, 0], e[:, 1]])
+    cols = np.concatenate([e[:, 1], e[:, 0]])
+    deg = np.bincount(rows, minlength=n).astype(np.float64)
+    weight = 1.0 / np.maximum(deg, 1.0)[rows]
+    return csr_matrix((weight, (rows, cols)), shape=(n, n))
+
+
+def _tangential_relax(solid, points, faces, fixed, iterations=3, steps=3):
+    """Move free vertices toward their neighbours' mean in the tangent plane, then reproject.
+
+    The neighbour means come from one sparse matrix built once; each Newton
+    step of the reprojection evaluates the field and its gradient in one call,
+    and the gradient of the last step gives the next iteration's tangent plane.
+    """
     p = points.copy()
-    for _ in range(iterations):
-        # Sums over the neighbours by bincount (np.add.at is several times slower).
-        mean = np.stack([np.bincount(e[:, 0], weights=p[e[:, 1], j], minlength=n) for j in range(3)], axis=1)
-        mean /= np.maximum(deg, 1)[:, None]
-        # Fixed vertices do not move: their gradients are not needed.
-        g = solid.gradient(p[free])
-        g /= np.maximum(np.linalg.norm(g, axis=1), 1e-300)[:, None]
-        d = mean[free] - p[free]
-        d -= np.einsum("ij,ij->i", d, g)[:, None] * g
-        p = p.copy()
-        p[free] = project_to_surface(solid, p[free] + 0.5 * d, steps=3)
+    free = np.nonzero(~np.asarray(fixed, dtype=bool))[0]
+    if free.size == 0:
+        return p
+    mean_of = _neighbour_mean_matrix(faces, p.shape[0])
+    h = _gradient_step(solid)
+    gq = solid.gradient(p[free], step=h)
+    for it in range(iterations):
+        gf = gq / np.maximum(np.linalg.norm(gq, axis=1), 1e-300)[:, None]
+        d = (mean_of @ p)[free] - p[free]
+        d -= np.einsum("ij,ij->i", d, gf)[:, None] * gf
+        q = p[free] + 0.5 * d
+        # A tangential step leaves the point off a curved surface by about curvature * step^2: one
+        # Newton step takes that to its square, enough for the next iteration; the last one converges.
+        for _ in range(steps if it == iterations - 1 else 1):
+            f, gq = value_and_gradient(solid, q, h)
+            g2 = np.einsum("ij,ij->i", gq, gq)
+            ok = g2 > 1e-12
+            q[ok] -= (f[ok] / g2[ok])[:, None] * gq[ok]
+        p[free] = q
     return p
+
+
+def _gradient_step(solid):
+    """The finite-difference step `project_to_surface` uses for `solid`."""
+    lo, hi = solid.bounds
+    ext = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
+    return 1e-7 * max(float(np.max(ext)), 1.0)
 
 
 def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,

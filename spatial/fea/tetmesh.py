@@ -34,7 +34,7 @@ from .size_field import curvature_size
 from .resolve import check_resolvable
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
 from .quality import radius_edge_ratio, tet_quality, tet_volumes
-from .slivers import boundary_faces, element_score, flip23, improve, peel
+from .slivers import boundary_faces, element_score, improve, peel, remove_slivers
 
 __all__ = ["TetMesh", "tet_mesh", "MeshQualityError", "MeshQualityWarning", "SIDE_NODES"]
 
@@ -269,16 +269,12 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         if peeled:
             info["peeled"] = peeled
             bfaces, belem, bside = boundary_faces(elems)
-        for extra in range(SLIVER_ROUNDS):
-            # Stubborn slivers: flips of their interior faces, then more rounds with fresh random trials.
-            if not np.any(element_score(nodes, elems, min_dihedral, max_dihedral, radius_edge) < min_dihedral):
-                break
-            elems, flips = flip23(nodes, elems, min_dihedral, max_dihedral, radius_edge)
-            if flips:
-                info["flips"] = info.get("flips", 0) + flips
-                bfaces, belem, bside = boundary_faces(elems)
-            nodes = improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 2 + extra,
-                             solid=solid, slide=slide, rounds=80, jitter=1.0 + extra, radius_edge=radius_edge)
+        nodes, elems, counts = remove_slivers(nodes, elems, movable | slide, min_dihedral, max_dihedral,
+                                              radius_edge=radius_edge, seed=seed + 2, solid=solid, slide=slide,
+                                              rounds=SLIVER_ROUNDS)
+        info.update({k: v for k, v in counts.items() if v})
+        if counts["flips"] or counts["inserted_points"]:
+            bfaces, belem, bside = boundary_faces(elems)
     clock.append(time.perf_counter())
     if np.any(tet_volumes(nodes, elems) <= 0):
         raise ValueError("tet_mesh: an element is inverted after meshing (zero or negative volume)")
