@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .jacobian_bounds import jacobian_sign
+from .score_kernel import corner_measures
 
 __all__ = ["TetQuality", "tet_quality", "dihedral_angles", "gamma", "radius_edge_ratio", "scaled_jacobian", "tet_volumes"]
 
@@ -244,10 +245,10 @@ def tet_quality(points, tets, *, min_dihedral: float = 10.0) -> TetQuality:
         raise ValueError(f"points: expected shape (n, 3), got {points.shape}")
     if tets.ndim != 2 or tets.shape[1] not in (4, 10) or len(tets) == 0:
         raise ValueError(f"tets: expected shape (m, 4) or (m, 10) with m > 0, got {tets.shape}")
-    d = dihedral_angles(points, tets)
-    dmin, dmax = d.min(axis=1), d.max(axis=1)
-    re = radius_edge_ratio(points, tets)
-    sj = scaled_jacobian(points, tets)
+    # The corner tetrahedra's measures in one compiled pass (numpy: a dozen passes over (m, 4, 3) copies).
+    dmin, dmax, re, sj, vol = corner_measures(points, tets)
+    if tets.shape[1] == 10:
+        sj, vol = scaled_jacobian(points, tets), tet_volumes(points, tets)
     hist_edges = np.array([0, 5, 10, 15, 20, 30, 40, 60, 90])
     counts = np.histogram(dmin, bins=np.append(hist_edges, 180))[0]
     return TetQuality(
@@ -256,6 +257,6 @@ def tet_quality(points, tets, *, min_dihedral: float = 10.0) -> TetQuality:
         dihedral_p1=float(np.percentile(dmin, 1)), dihedral_p99=float(np.percentile(dmax, 99)),
         max_radius_edge=float(re.max()), radius_edge_p99=float(np.percentile(re, 99)),
         min_scaled_jacobian=float(sj.min()), n_below=int((dmin < min_dihedral).sum()),
-        volume=float(tet_volumes(points, tets).sum()),
+        volume=float(vol.sum()),
         histogram={f"{lo}-": int(c) for lo, c in zip(hist_edges, counts)},
     )

@@ -45,3 +45,22 @@ def test_boundary_faces_of_two_tets_sharing_a_face():
     assert sorted(map(tuple, np.sort(faces, axis=1))) == sorted(
         [(0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 4), (1, 3, 4), (2, 3, 4)])
     assert np.bincount(elem).tolist() == [3, 3]
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_corner_measures_equal_the_numpy_measures(seed):
+    from spatial.fea.quality import scaled_jacobian
+    from spatial.fea.score_kernel import corner_measures
+
+    rng = np.random.default_rng(seed)
+    pts = rng.normal(size=(60, 3))
+    tets = np.array([rng.choice(60, 4, replace=False) for _ in range(200)])
+    dmin, dmax, re, sj, vol = corner_measures(pts, tets)
+    d = dihedral_angles(pts, tets)
+    np.testing.assert_allclose(dmin, d.min(axis=1), atol=1e-9)
+    np.testing.assert_allclose(dmax, d.max(axis=1), atol=1e-9)
+    np.testing.assert_allclose(re, radius_edge_ratio(pts, tets), rtol=1e-9)
+    np.testing.assert_allclose(sj, scaled_jacobian(pts, tets), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(vol, tet_volumes(pts, tets), rtol=1e-12, atol=1e-15)
+    assert ((sj > 0) == (vol > 0)).all()
