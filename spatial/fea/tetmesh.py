@@ -3,7 +3,11 @@
 `tet_mesh` remeshes the solid's boundary (`surface_for_fea`), fills it with
 TetGen's quality Delaunay refinement, removes the slivers TetGen leaves by
 smoothing interior vertices (each candidate position is scored by the worst
-dihedral angle of the elements around the vertex), optionally adds mid-edge
+dihedral angle of the elements around the vertex), then, for those left, by
+boundary vertices sliding on the surface, flips and edge removal
+(`sliver_flips.remove_slivers`): TetGen's output turns on the last bits of the
+surface's coplanar points, and smoothing alone cannot lift an element whose
+nodes all lie on the boundary.  It optionally adds mid-edge
 nodes (10-node tetrahedra, boundary mid-nodes projected onto the true
 surface), and names the boundary by the CSG facets that make it.
 
@@ -34,7 +38,8 @@ from .size_field import curvature_size
 from .resolve import check_resolvable
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
 from .quality import radius_edge_ratio, tet_quality, tet_volumes
-from .slivers import boundary_faces, element_score, improve, peel, remove_slivers
+from .slivers import boundary_faces, element_score, improve, peel
+from .sliver_flips import remove_slivers
 
 __all__ = ["TetMesh", "tet_mesh", "MeshQualityError", "MeshQualityWarning", "SIDE_NODES"]
 
