@@ -6,7 +6,10 @@ thread spent runnable but waiting for a core (``/proc/self/task/<tid>/schedstat`
 only).  For one thread that is its CPU time; with two it keeps the main thread's waits for the GIL
 and for the other thread.  Modes alternate run by run; medians.
 
-    .venv/bin/python bench/bench_threads.py [--sizes 512 1024] [--repeat 5] [--root CLONE]
+    .venv/bin/python bench/bench_threads.py [--sizes 512 1024] [--repeat 5] [--root CLONE] [--plain]
+
+``--plain`` meshes with ``features=False`` (the plain marching-cubes mesh); the default is
+`spatial.mesh`'s default, the feature mesh.
 
 ``--root`` meshes with another clone's code (main's, say) in the same runs; its rows say ``code``
 (that code's default, whatever it is) rather than a thread count.
@@ -38,17 +41,17 @@ tid = threading.get_native_id()
 def stat():
     a = open(f"/proc/self/task/{{tid}}/schedstat").read().split()
     return int(a[1]) / 1e9
-mesh(part, resolution=64, progress=False)
+mesh(part, resolution=64, progress=False, features={features})
 q0, t0, c0 = stat(), time.perf_counter(), time.process_time()
-m = mesh(part, resolution={n}, progress=False)
+m = mesh(part, resolution={n}, progress=False, features={features})
 wall, cpu, queued = time.perf_counter() - t0, time.process_time() - c0, stat() - q0
 print(json.dumps(dict(wall=wall, cpu=cpu, quiet=wall - queued, triangles=m.n_cells,
                       peak=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)))
 """
 
 
-def run_one(root, n, threads):
-    code = CHILD.format(root=root, n=n, threads=threads)
+def run_one(root, n, threads, features=True):
+    code = CHILD.format(root=root, n=n, threads=threads, features=features)
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return json.loads(res.stdout.strip().splitlines()[-1])
 
@@ -58,6 +61,7 @@ def main(argv=None):
     parser.add_argument("--sizes", type=int, nargs="+", default=[512, 1024])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--root", default=None, help="another clone to mesh with, in the same runs")
+    parser.add_argument("--plain", action="store_true", help="the plain mesh (features=False), not the default")
     args = parser.parse_args(argv)
     modes = [(ROOT, 1, "1 thread"), (ROOT, 2, "2 threads")]
     if args.root:
@@ -67,7 +71,7 @@ def main(argv=None):
         runs = {label: [] for _, _, label in modes}
         for _ in range(args.repeat):
             for root, threads, label in modes:
-                runs[label].append(run_one(root, n, threads))
+                runs[label].append(run_one(root, n, threads, not args.plain))
         for _, _, label in modes:
             r = runs[label]
             med = {k: statistics.median(x[k] for x in r) for k in ("quiet", "wall", "cpu", "peak")}

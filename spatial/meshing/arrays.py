@@ -117,6 +117,22 @@ def _evaluate(solid, pts, chunk=EVAL_CHUNK):
     return out
 
 
+def _chunks_on_threads(work, n, chunk=EVAL_CHUNK, threads=2):
+    """``work(a, b)`` for the chunks ``[a, b)`` of ``range(n)``, on `threads` threads when there are
+    several chunks (the compiled evaluation releases the interpreter's lock).  The chunks are the
+    ones a single thread would take, so every call -- and every value -- is the same."""
+    spans = [(a, min(a + chunk, n)) for a in range(0, n, chunk)]
+    if threads < 2 or len(spans) < 2:
+        for a, b in spans:
+            work(a, b)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=threads, thread_name_prefix="implicad-eval") as pool:
+        for future in [pool.submit(work, a, b) for a, b in spans]:
+            future.result()
+
+
 def _stable_order(keys):
     """``np.argsort(keys, kind="stable")``; keys below 2**16 go through 16 bits, where numpy's
     stable sort is a radix sort (several times faster on the lattice's indices)."""

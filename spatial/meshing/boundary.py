@@ -57,7 +57,7 @@ import warnings
 
 import numpy as np
 
-from .arrays import CLASSIFY_CHUNK, DEFAULT_BLOCK, EVAL_CHUNK, ZERO_NUDGE, ZERO_TIE, empty_mesh
+from .arrays import CLASSIFY_CHUNK, DEFAULT_BLOCK, EVAL_CHUNK, ZERO_NUDGE, ZERO_TIE, _chunks_on_threads, empty_mesh
 from .blocks import check_block as _check_block
 from .cells import mesh_cells
 
@@ -133,7 +133,7 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
     check_mesh_memory(lattice.bounds, lattice.voxel_size)     # refuse before allocating (cells.budget)
-    found = _boundary_cells_2h(lattice, progress)
+    found = _boundary_cells_2h(lattice, progress, threads=2)
     if found["centres"] is not None:
         from ..cells.specks import warn_lost
 
@@ -168,7 +168,7 @@ def _warn_thin(solid, h, bounds=None):
     return None
 
 
-def _boundary_cells_2h(lattice, progress, start=None):
+def _boundary_cells_2h(lattice, progress, start=None, threads=1):
     """BOUNDARY cells of edge ``2h`` (level ``depth - 1``) and what their classification learned.
 
     Levels down to ``depth - 3`` are classified by `Solid.value_bounds`.  The
@@ -190,7 +190,7 @@ def _boundary_cells_2h(lattice, progress, start=None):
 
     With ``start=(level, cells)`` only the octree below those cells is
     classified (`descend`): a brick of the lattice, as the whole-lattice
-    classification sees it.
+    classification sees it.  The centres are sampled on `threads` threads (the same values).
     """
     solid, depth = lattice.solid, lattice.depth
     lip = float(solid.lipschitz)
@@ -219,8 +219,12 @@ def _boundary_cells_2h(lattice, progress, start=None):
         children = np.concatenate([children, at_edge[inside]])
         del edge, at_edge, inside
         values = np.empty(children.shape[0])
-        for a in range(0, children.shape[0], EVAL_CHUNK):
-            values[a:a + EVAL_CHUNK] = solid(lattice.origin + (size * children[a:a + EVAL_CHUNK] + size // 2) * h)
+
+        def centres(a, b, size=size, children=children, values=values):
+            values[a:b] = solid(lattice.origin + (size * children[a:b] + size // 2) * h)
+
+        # the chunks on `threads` threads (the serial part of the mesh: no slab runs beside it)
+        _chunks_on_threads(centres, children.shape[0], EVAL_CHUNK, threads=threads)
         evaluations += int(children.shape[0])
         # the default bound: |f(centre)| <= L * half-diagonal may hold boundary
         # (plus a tie's width: a uniform cell's nodes are never ties, see `_settle_ties`)

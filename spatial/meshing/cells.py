@@ -66,8 +66,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         vertex (the key that fuses the meshes of neighbouring parts).
     slab_threads : {1, 2}
         2: a second thread samples the next slab while marching cubes runs
-        on this one (`slab.run_slabs`), from `OVERLAP_MIN_SLABS` slabs on; the
-        mesh is the same, bit for bit.
+        on this one (`slab.run_slabs`), from `OVERLAP_MIN_SLABS` slabs on, and the
+        refinement's chunks run on two threads; the mesh is the same, bit for bit.
 
     Returns
     -------
@@ -211,7 +211,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         free[inner] = False
         rows = np.flatnonzero(free).astype(np.int32)
         del free
-        spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows)
+        spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows, threads=slab_threads)
         evaluations += spent
         del rows
     del f0, f1

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .arrays import EVAL_CHUNK, REFINE_ACCEPT, REFINE_STEPS, REFINE_TOL, ZERO_NUDGE
+from .arrays import EVAL_CHUNK, REFINE_ACCEPT, REFINE_STEPS, REFINE_TOL, ZERO_NUDGE, _chunks_on_threads
 from .kernels import edge_points, illinois_step
 
 __all__ = []
@@ -35,7 +35,7 @@ def _certified(f0, f1, h, lip):
 
 
 def _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows=None, steps=REFINE_STEPS, tol=REFINE_TOL,
-                     accept=REFINE_ACCEPT, chunk=EVAL_CHUNK):
+                     accept=REFINE_ACCEPT, chunk=EVAL_CHUNK, threads=2):
     """Illinois regula falsi for the root of f along each vertex's edge, in place.
 
     Vertex ``i`` lies at ``origin + (nodes[i] + t[i] * e[axis[i]]) * h``.  The bracket
@@ -44,16 +44,20 @@ def _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows=None, steps=
     above ``tol * h`` are updated; those already within ``accept * h`` take
     that last update without being evaluated again.  Works on chunks of
     vertices (`rows`, default all) to bound the temporaries; `t` is updated
-    in place.  Returns the number of evaluations spent.
+    in place; the chunks run on `threads` threads.  Returns the number of evaluations spent.
     """
     rows = np.arange(t.shape[0]) if rows is None else np.asarray(rows)
     origin = np.asarray(origin, dtype=np.float64)
-    spent = 0
-    for s0 in range(0, rows.shape[0], chunk):
-        sl = rows[s0:s0 + chunk]
-        t[sl], used = _refine_chunk(solid, nodes, axis, origin, sl, h, t[sl], f0[sl], f1[sl], steps, tol, accept)
-        spent += used
-    return spent
+    used = []
+
+    def work(s0, s1):
+        # the chunks' rows are disjoint: each writes its own entries of t
+        sl = rows[s0:s1]
+        t[sl], n = _refine_chunk(solid, nodes, axis, origin, sl, h, t[sl], f0[sl], f1[sl], steps, tol, accept)
+        used.append(n)
+
+    _chunks_on_threads(work, rows.shape[0], chunk, threads=threads)
+    return sum(used)
 
 
 def _refine_chunk(solid, nodes, axis, origin, rows, h, t, fa, fb, steps, tol, accept):
