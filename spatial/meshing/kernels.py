@@ -417,19 +417,20 @@ def needed_nodes(code, B, flat, s_n, maybe, upper):
     whether it lies on the block's upper x plane (handed to the next slab).
     """
     n1 = B + 1
-    n2 = n1 * n1
-    n3 = n2 * n1
+    nb = code.shape[0] // (n1 * n1 * n1)
     m = 0
-    for q in range(code.shape[0]):
-        c = code[q]
-        if c & 1:
-            flat[m] = q
-            s_n[m] = ((c >> 1) & 1) - ((c >> 2) & 1)
-            r = q % n3
-            x = r // n2
-            r -= x * n2
-            y = r // n1
-            z = r - y * n1
-            maybe[m] = y % B == 0 or z % B == 0 or x == 0
-            upper[m] = x == B
-            m += 1
+    q = 0
+    # nested loops instead of dividing each position back into (x, y, z): y % B == 0 is y in (0, B)
+    for _ in range(nb):
+        for x in range(n1):
+            for y in range(n1):
+                y_face = y == 0 or y == B
+                for z in range(n1):
+                    c = code[q]
+                    if c & 1:
+                        flat[m] = q
+                        s_n[m] = ((c >> 1) & 1) - ((c >> 2) & 1)
+                        maybe[m] = y_face or z == 0 or z == B or x == 0
+                        upper[m] = x == B
+                        m += 1
+                    q += 1
