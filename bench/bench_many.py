@@ -8,7 +8,11 @@ call, as in a session); wall and CPU seconds are medians of the runs.
 
 Targets at N = 256: plate <= 0.8 s, gear <= 0.8 s, lattice <= 2.5 s.
 
-    .venv/bin/python bench/bench_many.py [--resolution 256] [--repeat 3] [--parts plate gear lattice]
+    .venv/bin/python bench/bench_many.py [--resolution 256] [--repeat 3] [--parts plate gear lattice] [--plain]
+        [--root CLONE]
+
+``--plain``: the plain mesh (``features=False``) rather than `spatial.mesh`'s default, the feature
+mesh; ``--root``: mesh with another clone's code (the parts are built by this file).
 """
 
 from __future__ import annotations
@@ -24,16 +28,16 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 CHILD = r"""
 import json, resource, sys, time
-sys.path.insert(0, {root!r})
 sys.path.insert(0, {bench!r})
+sys.path.insert(0, {root!r})
 from bench_many import build
 from spatial import mesh
 part = build({name!r})
-mesh(part, resolution=64, progress=False)
+mesh(part, resolution=64, progress=False, features={features})
 runs = []
 for _ in range({repeat}):
     t0, c0 = time.perf_counter(), time.process_time()
-    m = mesh(part, resolution={n}, progress=False)
+    m = mesh(part, resolution={n}, progress=False, features={features})
     runs.append((time.perf_counter() - t0, time.process_time() - c0))
 peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 print(json.dumps(dict(runs=runs, peak=peak, triangles=int(m.n_cells), volume=float(m.volume),
@@ -77,14 +81,16 @@ def main(argv=None):
     parser.add_argument("--resolution", type=int, default=256)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--parts", nargs="+", default=list(TARGETS))
+    parser.add_argument("--plain", action="store_true", help="features=False (the plain mesh)")
+    parser.add_argument("--root", default=ROOT, help="the clone whose code meshes")
     args = parser.parse_args(argv)
     print(f"parts with many primitives, spatial.mesh at N={args.resolution} in process after a warm-up; "
           f"median of {args.repeat}")
     print(f"{'part':<8} {'prims':>5} {'wall s':>7} {'cpu s':>6} {'target':>6} {'peak MB':>7} {'evaluations':>12} "
           f"{'triangles':>10} {'volume':>10}")
     for name in args.parts:
-        code = CHILD.format(root=ROOT, bench=os.path.join(ROOT, "bench"), name=name, n=args.resolution,
-                            repeat=args.repeat)
+        code = CHILD.format(root=os.path.abspath(args.root), bench=os.path.join(ROOT, "bench"), name=name,
+                            n=args.resolution, repeat=args.repeat, features=not args.plain)
         res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
         r = json.loads(res.stdout.strip().splitlines()[-1])
         wall = statistics.median(w for w, _ in r["runs"])
