@@ -46,24 +46,29 @@ def _face(v, out, p, q, r, s):
     return 1
 
 
+def _square_inside(v, i, out):
+    """``out[j, k]``: how many of the nodes ``(i, j..j+1, k..k+1)`` of plane `i` are inside (< 0)."""
+    ny, nz = out.shape
+    for j in range(ny):
+        for k in range(nz):
+            out[j, k] = ((v[i, j, k] < 0) + (v[i, j + 1, k] < 0) + (v[i, j, k + 1] < 0)
+                         + (v[i, j + 1, k + 1] < 0))
+
+
 def _find(v, out):
     """Marks in `out` the inside corners of ambiguous faces and body-diagonal cubes at a tie."""
     nx, ny, nz = v.shape
     found = 0
+    # a cube's inside corners counted from its two yz squares' counts, each square counted once
+    # (most cubes have 0 or 8 and are skipped after two additions)
+    lower = np.empty((ny - 1, nz - 1), np.int8)
+    upper = np.empty((ny - 1, nz - 1), np.int8)
+    _square_inside(v, 0, lower)
     for i in range(nx - 1):
+        _square_inside(v, i + 1, upper)
         for j in range(ny - 1):
             for k in range(nz - 1):
-                neg = 0
-                mag = abs(v[i, j, k])
-                same = True
-                for di in range(2):
-                    for dj in range(2):
-                        for dk in range(2):
-                            w = v[i + di, j + dj, k + dk]
-                            if w < 0:
-                                neg += 1
-                            if abs(w) != mag:
-                                same = False
+                neg = lower[j, k] + upper[j, k]
                 if neg < 2 or neg > 6:        # no ambiguous face in a cube with 0, 1, 7 or 8 inside
                     continue
                 i1, j1, k1 = i + 1, j + 1, k + 1
@@ -73,14 +78,24 @@ def _find(v, out):
                     found += _face(v, out, (i, y, k), (i1, y, k), (i1, y, k1), (i, y, k1))
                 for x in (i, i1):
                     found += _face(v, out, (x, j, k), (x, j1, k), (x, j1, k1), (x, j, k1))
+                if neg != 2:
+                    continue
                 # two opposite corners inside, six outside, all equally far: the tie of the interior test
-                if neg == 2 and same:
+                mag = abs(v[i, j, k])
+                same = True
+                for di in range(2):
+                    for dj in range(2):
+                        for dk in range(2):
+                            if abs(v[i + di, j + dj, k + dk]) != mag:
+                                same = False
+                if same:
                     for di in range(2):
                         for dj in range(2):
                             for dk in range(2):
                                 if v[i + di, j + dj, k + dk] < 0 and v[i1 - di, j1 - dj, k1 - dk] < 0:
                                     out[i + di, j + dj, k + dk] = True
                                     found += 1
+        lower, upper = upper, lower
     return found
 
 
@@ -94,8 +109,9 @@ def _kernel():
         except ImportError:  # pragma: no cover - numba is a dependency
             _KERNEL.append(_find)
         else:
-            global _face
+            global _face, _square_inside
             _face = numba.njit(cache=True, nogil=True, inline="always")(_face)
+            _square_inside = numba.njit(cache=True, nogil=True)(_square_inside)
             _KERNEL.append(numba.njit(cache=True, nogil=True)(_find))
     return _KERNEL[0]
 
