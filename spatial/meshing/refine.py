@@ -35,7 +35,7 @@ def _certified(f0, f1, h, lip):
 
 
 def _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows=None, steps=REFINE_STEPS, tol=REFINE_TOL,
-                     accept=REFINE_ACCEPT, chunk=EVAL_CHUNK, threads=2):
+                     accept=REFINE_ACCEPT, chunk=EVAL_CHUNK, threads=1):
     """Illinois regula falsi for the root of f along each vertex's edge, in place.
 
     Vertex ``i`` lies at ``origin + (nodes[i] + t[i] * e[axis[i]]) * h``.  The bracket
