@@ -1,7 +1,8 @@
 """The tie finder of `saddles` marks the same corners as its plain reference, on tie-rich blocks."""
 
 import numpy as np
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from spatial.meshing.saddles import _kernel, break_ties
