@@ -3,7 +3,9 @@
 A throw-away module of cached kernels (one allocating an array, one parallel) is compiled
 in a first fresh interpreter, then loaded in a second: the second gives the same values,
 never imports numba's linalg registry (the refresh's mark), and still compiles a new
-kernel that needs it.
+kernel that needs it, and one that calls a loaded kernel (linking the bitcode the load left unparsed).
+The names a cached object defines, read from its ELF symbol table, are those numba reads from
+its bitcode.
 """
 
 import json
@@ -50,7 +52,10 @@ JOB = textwrap.dedent('''
     @numba.njit
     def norm(v):
         return np.linalg.norm(v)       # typing this needs the registries the load skipped
-    print(json.dumps(dict(a=a, b=b, refreshed=refreshed, norm=norm(x))))
+    @numba.njit
+    def last(v):
+        return kernels.cumulative(v)[-1]   # links the loaded kernel: its bitcode is parsed now
+    print(json.dumps(dict(a=a, b=b, refreshed=refreshed, norm=norm(x), last=last(x))))
 ''')
 
 
@@ -70,9 +75,11 @@ def test_cached_kernels_load_without_the_refresh_and_compile_after(tmp_path):
     assert second["b"] == [2.0, 4.0, 6.0, 8.0, 10.0]
     assert not second["refreshed"]
     assert second["norm"] == pytest.approx(55.0 ** 0.5, rel=1e-15)
+    assert first["last"] == second["last"] == 55.0
     # numba's own start-up on request: the same values, with the refresh
     full = _run(tmp_path, IMPLICAD_NUMBA_FULL_START="1")
     assert full["refreshed"] and full["a"] == second["a"] and full["b"] == second["b"]
+    assert full["last"] == 55.0
 
 
 def test_install_is_idempotent_and_marks_the_loader():
@@ -86,3 +93,55 @@ def test_install_is_idempotent_and_marks_the_loader():
         assert numba_start.installed()
         assert caching.Cache.load_overload.__wrapped__ is not None
         assert not hasattr(caching.Cache.load_overload.__wrapped__, "__wrapped__")  # wrapped once
+
+
+def test_object_symbols_are_the_bitcode_s_defined_globals():
+    # every kernel the evaluator caches: the machine code's global symbols against the names
+    # numba's own loader would take from the bitcode (external or weak definitions)
+    import glob
+    import pickle
+
+    import llvmlite.binding as ll
+
+    from implicit.evaluate import kernels
+    from implicit.evaluate.numba_objects import defined_symbols
+
+    kernels.prime_cache()
+    folder = os.path.join(os.path.dirname(kernels.__file__), "__pycache__")
+    files = sorted(glob.glob(os.path.join(folder, "jit.*.nbc")))
+    assert files, "no cached kernel to read"
+
+    def library_state(obj, depth=0):
+        if isinstance(obj, tuple) and len(obj) == 3 and obj[1] == "object":
+            return obj
+        if isinstance(obj, (tuple, list)) and depth < 6:
+            for item in obj:
+                found = library_state(item, depth + 1)
+                if found is not None:
+                    return found
+        return None
+
+    checked = 0
+    for path in files:
+        with open(path, "rb") as handle:
+            state = library_state(pickle.loads(handle.read()))
+        if state is None:
+            continue
+        code, bitcode = state[2]
+        module = ll.parse_bitcode(bitcode)
+        exported = {g.name for group in (module.functions, module.global_variables) for g in group
+                    if not g.is_declaration and g.linkage not in (ll.Linkage.internal, ll.Linkage.private)}
+        names = defined_symbols(code)
+        assert names == exported, path
+        assert any(n.startswith("_ZN7cpython") for n in names), path  # the wrapper numba asks for
+        checked += 1
+    assert checked >= 4
+
+
+def test_object_symbols_refuse_what_is_not_an_elf_object():
+    from implicit.evaluate.numba_objects import defined_symbols
+
+    assert defined_symbols(b"\x7fELF" + bytes(60)) is None       # 32-bit class byte: not read
+    assert defined_symbols(b"\xcf\xfa\xed\xfe" + bytes(60)) is None  # Mach-O
+    with pytest.raises(TypeError, match="obj: expected the bytes of an object file"):
+        defined_symbols("cpython.f")
