@@ -145,3 +145,54 @@ def test_object_symbols_refuse_what_is_not_an_elf_object():
     assert defined_symbols(b"\xcf\xfa\xed\xfe" + bytes(60)) is None  # Mach-O
     with pytest.raises(TypeError, match="obj: expected the bytes of an object file"):
         defined_symbols("cpython.f")
+
+
+EXTENSION_JOB = textwrap.dedent('''
+    import json, sys
+    import importlib.metadata as md
+    import implicit  # installs the start-up
+    import numba
+    import numpy as np
+    calls = []
+    scan = md.entry_points
+    md.entry_points = lambda *a, **k: calls.append(1) or scan(*a, **k)
+    @numba.njit
+    def twice(x):
+        return 2.0 * x
+    twice(1.0)
+    import fake_extension
+    print(json.dumps(dict(scanned=len(calls), loaded=fake_extension.LOADED)))
+''')
+
+
+@pytest.mark.parametrize("declared", [False, True])
+def test_numba_extensions_are_looked_for_only_where_one_is_declared(tmp_path, declared):
+    (tmp_path / "fake_extension.py").write_text("LOADED = []\ndef init():\n    LOADED.append(1)\n")
+    info = tmp_path / "fake_extension-1.0.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: fake-extension\nVersion: 1.0\n")
+    group = "numba_extensions" if declared else "console_scripts"
+    (info / "entry_points.txt").write_text(f"[{group}]\ninit = fake_extension:init\n")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path))
+    env.pop("IMPLICAD_NUMBA_FULL_START", None)
+    proc = subprocess.run([sys.executable, "-c", EXTENSION_JOB], env=env, capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    got = json.loads(proc.stdout.strip().splitlines()[-1])
+    # declared: numba reads the entry points and runs the extension's init, as without the start-up
+    assert got == (dict(scanned=1, loaded=[1]) if declared else dict(scanned=0, loaded=[]))
+
+
+def test_no_numba_extensions_reads_the_entry_points_files(tmp_path):
+    from implicit.evaluate.numba_start import no_numba_extensions
+
+    assert no_numba_extensions([str(tmp_path), str(tmp_path / "missing")])
+    (tmp_path / "plain.egg-info").write_text("Name: plain\n")  # an egg-info file, no entry points
+    assert no_numba_extensions([str(tmp_path)])
+    info = tmp_path / "ext-1.0.dist-info"
+    info.mkdir()
+    (info / "entry_points.txt").write_text("[numba_extensions]\ninit = ext:init\n")
+    assert not no_numba_extensions([str(tmp_path)])
+    zipped = tmp_path / "bundle.zip"
+    zipped.write_bytes(b"PK")
+    assert not no_numba_extensions([str(zipped)])  # not read: numba looks for itself
