@@ -86,12 +86,15 @@ def _patch(caching) -> None:
 
         rtsys.initialize(target_context)  # what the cached code links against; the registries wait
         lock = _llvm_lock()
-        callbacks, lock._cblist = lock._cblist, []
+        callbacks = getattr(lock, "_cblist", None)
+        if isinstance(callbacks, list):
+            lock._cblist = []
         try:
             with self._guard_against_spurious_io_errors():
                 return self._load_overload(sig, target_context)
         finally:
-            lock._cblist = callbacks + lock._cblist  # any registered meanwhile kept
+            if isinstance(callbacks, list):
+                lock._cblist = callbacks + lock._cblist  # any registered meanwhile kept
         return None  # the guard swallowed an I/O error: compile instead, as numba does
 
     load_overload.__doc__ = original.__doc__
@@ -105,7 +108,7 @@ def _patch(caching) -> None:
 def _llvm_lock():
     from llvmlite.binding import ffi
 
-    return ffi.lib._lock
+    return getattr(ffi.lib, "_lock", None)
 
 
 def _patch_unserialize(codegen):
@@ -115,7 +118,7 @@ def _patch_unserialize(codegen):
     needed = ("_unserialize", "_get_module_for_linking", "enable_object_caching", "_set_compiled_object",
               "_finalize_final_module")
     if library is None or engine is None or not all(hasattr(library, a) for a in needed) \
-            or not hasattr(engine, "_load_defined_symbols") or not hasattr(_llvm_lock(), "_cblist"):
+            or not hasattr(engine, "_load_defined_symbols"):
         return None
     unserialize = library.__dict__["_unserialize"].__func__
     for_linking = library._get_module_for_linking

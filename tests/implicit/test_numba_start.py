@@ -45,9 +45,21 @@ JOB = textwrap.dedent('''
     import numpy as np
     import numba
     import kernels
+    import numba.core.caching as caching
+    from numba.core import event
+    heard = event.RecordingListener()
+    event.register("numba:llvm_lock", heard)
+    inner, during = caching.Cache._load_overload, []
+    def counted(self, *args):     # the LLVM lock events heard while one cached kernel loads
+        before = len(heard.buffer)
+        result = inner(self, *args)
+        during.append(len(heard.buffer) - before)
+        return result
+    caching.Cache._load_overload = counted
     x = np.arange(1.0, 6.0)
     a = kernels.cumulative(x).tolist()
     b = kernels.doubled(x).tolist()
+    lock_events = during
     refreshed = "numba.np.linalg" in sys.modules
     @numba.njit
     def norm(v):
@@ -55,7 +67,7 @@ JOB = textwrap.dedent('''
     @numba.njit
     def last(v):
         return kernels.cumulative(v)[-1]   # links the loaded kernel: its bitcode is parsed now
-    print(json.dumps(dict(a=a, b=b, refreshed=refreshed, norm=norm(x), last=last(x))))
+    print(json.dumps(dict(a=a, b=b, refreshed=refreshed, norm=norm(x), last=last(x), lock_events=lock_events)))
 ''')
 
 
@@ -76,10 +88,11 @@ def test_cached_kernels_load_without_the_refresh_and_compile_after(tmp_path):
     assert not second["refreshed"]
     assert second["norm"] == pytest.approx(55.0 ** 0.5, rel=1e-15)
     assert first["last"] == second["last"] == 55.0
+    assert len(second["lock_events"]) == 2 and sum(second["lock_events"]) == 0  # loads broadcast no lock events
     # numba's own start-up on request: the same values, with the refresh
     full = _run(tmp_path, IMPLICAD_NUMBA_FULL_START="1")
     assert full["refreshed"] and full["a"] == second["a"] and full["b"] == second["b"]
-    assert full["last"] == 55.0
+    assert full["last"] == 55.0 and len(full["lock_events"]) == 2 and min(full["lock_events"]) > 0
 
 
 def test_install_is_idempotent_and_marks_the_loader():
