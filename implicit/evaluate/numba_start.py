@@ -181,7 +181,8 @@ def no_numba_extensions(paths=None) -> bool:
     Reads only the ``entry_points.txt`` files of the ``*.dist-info`` and
     ``*.egg-info`` folders, where importlib.metadata's path finder would find
     them.  False (numba looks for itself) when anything else might provide
-    distributions: a zip or egg on the path, or another distribution finder.
+    distributions: a zip or egg on the path or, for ``sys.path``, another
+    distribution finder in ``sys.meta_path``.
 
     Examples
     --------
@@ -192,7 +193,7 @@ def no_numba_extensions(paths=None) -> bool:
     import sys
     from importlib.machinery import PathFinder
 
-    if any(hasattr(f, "find_distributions") and f is not PathFinder for f in sys.meta_path):
+    if paths is None and any(hasattr(f, "find_distributions") and f is not PathFinder for f in sys.meta_path):
         return False
     for entry in sys.path if paths is None else paths:
         folder = entry or os.getcwd()

@@ -196,8 +196,22 @@ def test_numba_extensions_are_looked_for_only_where_one_is_declared(tmp_path, de
     assert got == (dict(scanned=1, loaded=[1]) if declared else dict(scanned=0, loaded=[]))
 
 
-def test_no_numba_extensions_reads_the_entry_points_files(tmp_path):
+def test_no_numba_extensions_reads_the_entry_points_files(tmp_path, monkeypatch):
     from implicit.evaluate.numba_start import no_numba_extensions
+
+    class Finder:  # another source of distributions: numba must look for itself
+        def find_spec(self, *args):
+            return None
+
+        def find_distributions(self, *args):
+            return iter(())
+
+    monkeypatch.setattr(sys, "path", [str(tmp_path)])
+    monkeypatch.setattr(sys, "meta_path", [m for m in sys.meta_path if not hasattr(m, "find_distributions")
+                                           or getattr(m, "__name__", "") == "PathFinder"])
+    assert no_numba_extensions()
+    monkeypatch.setattr(sys, "meta_path", [Finder()] + sys.meta_path)
+    assert not no_numba_extensions()
 
     assert no_numba_extensions([str(tmp_path), str(tmp_path / "missing")])
     (tmp_path / "plain.egg-info").write_text("Name: plain\n")  # an egg-info file, no entry points
