@@ -10,7 +10,10 @@ prints medians of wall, CPU (user + system of the child) and peak MB, and the
 ratios to sdf.  A tree is a checkout of implicad run by this Python with the
 tree first on ``sys.path`` (its numba cache primed beforehand: a first run
 compiles).  Also prints where a whole process of each tree spends its CPU:
-imports, the first mesh and a second one.
+imports, the first mesh and a second one.  The meshes are what a user gets by
+default (sharp features rebuilt, as the command does); ``--no-features`` runs the
+plain mesh instead (``features=False``, the figures recorded before features
+became the default).
 
     .venv/bin/python bench/bench_startup.py --tree main=/tmp/main --tree branch=. \\
         --sizes 256 512 --repeat 5 --sdf-python /tmp/sdfvenv/bin/python --command 256
@@ -48,6 +51,12 @@ print(json.dumps(dict(zip(("numpy", "implicit", "spatial", "mesh 1", "mesh 2"), 
 """
 
 
+def _with_features(child: str) -> str:
+    """The child's mesh calls with `spatial.mesh`'s default (features on) instead of ``features=False``."""
+    assert ", features=False" in child
+    return child.replace(", features=False", "")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tree", action="append", metavar="NAME=PATH",
@@ -56,19 +65,23 @@ def main(argv=None) -> int:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--sdf-python", default=None, metavar="PATH")
     parser.add_argument("--command", type=int, default=0, metavar="N")
+    parser.add_argument("--no-features", action="store_true", help="whole processes mesh without features")
     args = parser.parse_args(argv)
+    child, phases = (wp.IMPLICAD_CHILD, PHASES) if args.no_features else \
+        (_with_features(wp.IMPLICAD_CHILD), _with_features(PHASES))
     trees = dict(t.split("=", 1) for t in (args.tree or [f"this={os.path.dirname(HERE)}"]))
     trees = {name: os.path.abspath(path) for name, path in trees.items()}
     why = wp.sdf_usable(args.sdf_python)
     med = statistics.median
-    print(f"load average {os.getloadavg()[0]:.1f} at {time.strftime('%H:%M')}; trees: {trees}"
+    print(f"load average {os.getloadavg()[0]:.1f} at {time.strftime('%H:%M')}; trees: {trees}; "
+          f"features {'off' if args.no_features else 'on'}"
           + (f"; sdf skipped ({why})" if why else ""))
     for n in args.sizes:
         runs = {name: [] for name in trees}
         peer = []
         for _ in range(args.repeat):
             for name, root in trees.items():
-                runs[name].append(wp.run_child([sys.executable, "-c", wp.IMPLICAD_CHILD.format(root=root, n=n)]))
+                runs[name].append(wp.run_child([sys.executable, "-c", child.format(root=root, n=n)]))
             if not why:
                 peer.append(wp.sdf_run(args.sdf_python, n))
         other = {k: med(r[k] for r in peer) for k in ("wall", "cpu", "peak")} if peer else None
@@ -96,7 +109,7 @@ def main(argv=None) -> int:
                   f"cpu {med(x['cpu'] for x in r):.2f} s, peak {med(x['peak'] for x in r):.0f} MB", flush=True)
     n = args.sizes[0] if args.sizes else 256
     for name, root in trees.items():
-        rows = [wp.run_child([sys.executable, "-c", PHASES.format(root=root, n=n)]) for _ in range(3)]
+        rows = [wp.run_child([sys.executable, "-c", phases.format(root=root, n=n)]) for _ in range(3)]
         print(f"CPU of a whole process at N={n}, {name} (median of 3): "
               + ", ".join(f"{k} {med(r[k] for r in rows):.2f} s" for k in ("numpy", "implicit", "spatial",
                                                                           "mesh 1", "mesh 2")), flush=True)
