@@ -16,7 +16,7 @@ import numpy as np
 
 from implicit.solid import Solid
 
-__all__ = ["narrowest_gap", "check_resolvable", "RIDGE_GRADIENT"]
+__all__ = ["narrowest_gap", "check_resolvable", "resolving_field", "RIDGE_GRADIENT"]
 
 #: Largest gradient magnitude of the distance on a gap's medial axis (|grad d| = cos of half
 #: the angle between the directions to the two sides: 0.35 is an angle over 139 degrees).
@@ -97,3 +97,36 @@ def check_resolvable(solid: Solid, size: float) -> None:
         return
     raise ValueError(f"size: {size:g} cannot follow a gap {width:.3g} wide (the narrowest gap of an extruded "
                      f"profile, at ({x:.3g}, {y:.3g})); the largest size that resolves it is {largest:g}")
+
+
+def resolving_field(solid: Solid, size: float):
+    """None when elements of `size` follow every gap of `solid`'s extruded profiles (sizes up to
+    `LARGEST_FRACTION` of the narrowest), else the graded `spatial.fea.graded.SizeField` that
+    does: fine in the gaps, `size` away from them.
+
+    Raises a ValueError naming the largest size that works only when the gap would need
+    elements under ``SMALLEST_FRACTION`` of `size` (a mesh then mostly made of the gap's
+    elements and of the grading away from it).
+
+    Examples
+    --------
+    >>> from implicit import extrude, polygon
+    >>> slot = polygon([[0, 0], [10, 0], [10, 10], [6, 10], [6, 2], [4, 2], [4, 10], [0, 10]])
+    >>> resolving_field(extrude(slot, 5.0), 1.5) is None, resolving_field(extrude(slot, 5.0), 3.0).smallest < 1.8
+    (True, True)
+    """
+    from .graded import graded_size_field
+    from .size_field import GAP_FRACTION, SMALLEST_FRACTION
+
+    gap = narrowest_gap(solid, size)
+    if gap is None:
+        return None
+    width, (x, y) = gap
+    if size <= float(f"{LARGEST_FRACTION * width:.2g}"):
+        return None
+    largest = float(f"{GAP_FRACTION * width / SMALLEST_FRACTION:.2g}")
+    if size > largest:
+        raise ValueError(f"size: {size:g} cannot follow a gap {width:.3g} wide (the narrowest gap of an extruded "
+                         f"profile, at ({x:.3g}, {y:.3g})): its elements would be under {SMALLEST_FRACTION:g} of the "
+                         f"size; the largest size that resolves it is {largest:g}")
+    return graded_size_field(solid, size, voxel=max(GAP_FRACTION * width, SMALLEST_FRACTION * size) / 4.0)

@@ -344,7 +344,7 @@ def _gradient_step(solid):
 
 
 def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
-                    check_intersections=True):
+                    check_intersections=True, size_field=None, split_sides=False):
     """A closed, outward, uniform triangle surface of target edge length `size`.
 
     The pipeline: merge duplicate points and drop degenerate triangles;
@@ -372,6 +372,11 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
     check_intersections : bool
         Test the result for self-intersecting triangles (pymeshfix) and raise
         when there are any.
+    size_field : spatial.fea.graded.SizeField, optional
+        A target edge length that varies over the surface (at most `size`):
+        the clusters are weighted by it (`spatial.fea.graded`).
+    split_sides : bool
+        Snap onto the sharp corners of extruded polygons too (`FacetField`).
 
     Returns
     -------
@@ -422,7 +427,7 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
             raise ValueError("solid_or_mesh: expected a bounded, non-empty solid")
         from ..meshing.boundary import mesh as _mesh_solid
 
-        h = voxel_size or size / 4.0
+        h = voxel_size or (size if size_field is None else size_field.smallest) / 4.0
         # The plain mesh of the solid grown by a twentieth of a voxel (touching faces of a union are 0
         # inside the part: a crack otherwise); the feature mesh as the start: see surface_corners.
         from implicit.modifiers import offset as _offset
@@ -441,13 +446,18 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
     with warnings.catch_warnings():
         # pyacvd 0.4 uses a pyvista accessor that pyvista 0.49 deprecates.
         warnings.filterwarnings("ignore", module="pyacvd")
-        clus = pyacvd.Clustering(src)
-        # Clustering needs many input points per cluster to make good cells.
-        nsub = 0
-        while src.n_points * 4**nsub < 15 * nclus and nsub < 4:
-            nsub += 1
-        if nsub:
-            clus.subdivide(nsub)
+        if size_field is not None and not size_field.uniform:
+            from .graded import weighted_clusters  # a size varying over the surface
+
+            clus, nclus = weighted_clusters(src, size, size_field)
+        else:
+            clus = pyacvd.Clustering(src)
+            # Clustering needs many input points per cluster to make good cells.
+            nsub = 0
+            while src.n_points * 4**nsub < 15 * nclus and nsub < 4:
+                nsub += 1
+            if nsub:
+                clus.subdivide(nsub)
         clus.cluster(nclus)
         # Cluster centres are projected onto the solid below; without one, pyacvd moves them.
         out = clus.create_mesh(moveclus=solid is None)
@@ -458,7 +468,7 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
     snapped = 0
     if solid is not None:
         pts = project_to_surface(solid, pts, max_move=size)
-        ff = FacetField(solid)
+        ff = FacetField(solid, split_sides=split_sides)
         fixed = np.zeros(pts.shape[0], dtype=bool)
         for rnd in range(SNAP_ROUNDS):
             pts, count = _snap_features(ff, pts, faces, size, fixed, far=rnd % 2 == 1)

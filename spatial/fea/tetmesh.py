@@ -35,7 +35,7 @@ from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_su
                       surface_for_fea)
 from .curved import add_midnodes, project_midnodes
 from .size_field import curvature_size
-from .resolve import check_resolvable
+from .resolve import resolving_field
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
 from .quality import radius_edge_ratio, tet_quality, tet_volumes
 from .slivers import boundary_faces, element_score, improve, peel
@@ -204,9 +204,11 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         raise ValueError(f"steiner_cap: expected a non-negative integer, got {steiner_cap!r}")
     if not solid.is_bounded or solid.is_empty_bounds:
         raise ValueError("solid: expected a bounded, non-empty solid")
+    field = None
     if surface is None:
-        # A gap narrower than the size (between gear teeth) would be bridged: refuse before any work.
-        check_resolvable(solid, size)
+        # A gap narrower than the size (between gear teeth) would be bridged: a size graded from
+        # it (spatial.fea.graded), refused before any work where even that cannot follow it.
+        field = resolving_field(solid, size)
 
     import tetgen
 
@@ -219,7 +221,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         allowed = (volume_tolerance + est_err) * order
         # 10-node elements: edges short enough for their mid nodes to go onto curved faces
         surface, info["surface_size"] = _surface_for(solid, size if order == 1 else curvature_size(solid, size),
-                                                     estimate, allowed)
+                                                     estimate, allowed, field)
         sfaces = mesh_faces(surface)
     else:
         # TetGen aborts the whole process on such input: check it first.
@@ -264,7 +266,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     nodes = improve(nodes, elems, movable, min_dihedral, max_dihedral, seed=seed, radius_edge=radius_edge)
     if np.any(element_score(nodes, elems, min_dihedral, max_dihedral, radius_edge) < min_dihedral):
         # Slivers lying on the boundary: let boundary vertices off the sharp edges slide on the surface.
-        _, _, fv = FacetField(solid)(nodes)
+        _, _, fv = FacetField(solid, split_sides=field is not None)(nodes)
         on_feature = (np.abs(fv) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
         slide = ~movable & ~on_feature
         nodes = improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 1,
@@ -349,17 +351,23 @@ SLIVER_ROUNDS = 3
 SURFACE_RETRIES = (1.0, 0.8, 0.64, 0.512)
 
 
-def _surface_for(solid, size, volume=None, allowed=None):
+def _surface_for(solid, size, volume=None, allowed=None, field=None):
     """`surface_for_fea` at `size`, or at the first finer size of `SURFACE_RETRIES` whose surface
     is free of self-intersections (sharp features closer than `size` need more vertices) and,
     given the solid's `volume`, encloses it within the relative error `allowed` (a surface that
     cuts across a wall as thick as `size` misses a good part of it).  The last surface that
-    intersects nothing is kept when none does both; the volume check of the mesh then reports it."""
+    intersects nothing is kept when none does both; the volume check of the mesh then reports it.
+    A graded `field` (`spatial.fea.graded`) is capped at `size` and scaled along."""
     err = None
     kept = None
     for factor in SURFACE_RETRIES:
         try:
-            surface = surface_for_fea(solid, size=size * factor)
+            if field is None:
+                surface = surface_for_fea(solid, size=size * factor)
+            else:
+                # Snapping and relaxing move vertices by up to a fraction of the size: the smallest one.
+                graded = field.capped(size).scaled(factor)
+                surface = surface_for_fea(solid, size=graded.smallest, size_field=graded, split_sides=True)
         except ValueError as exc:
             if "self-intersecting" not in str(exc):
                 raise
