@@ -143,6 +143,8 @@ def spread_curving(straight, curved, tets10, boundary_mids, iterations=40):
 
 #: Rounds of edge splits before the mid nodes are placed (each halves the split edges' sag).
 SPLIT_ROUNDS = 3
+#: Smallest dihedral angle (degrees) of the pieces of a split (`tet_mesh`'s default minimum).
+SPLIT_MIN_DIHEDRAL = 10.0
 
 
 def split_folding_edges(solid, ff, points, tets, boundary, size, rounds=SPLIT_ROUNDS):
@@ -209,7 +211,9 @@ def split_folding_edges(solid, ff, points, tets, boundary, size, rounds=SPLIT_RO
 
 def _split_edges(points, tets, uniq, edge_ids, where, tet_volumes):
     """Cut the elements around edges ``uniq[edge_ids]`` at points `where`; at most one edge per
-    element, none whose pieces would be inverted.  Returns (points, tets, number of edges split)."""
+    element, none whose pieces would be inverted or flat.  Returns (points, tets, edges split)."""
+    from .quality import dihedral_angles
+
     n = len(points)
     key = np.sort(tets[:, _EDGES], axis=2)                                   # (m, 6, 2)
     code = key[..., 0] * (n + 1) + key[..., 1]                              # (m, 6)
@@ -238,6 +242,12 @@ def _split_edges(points, tets, uniq, edge_ids, where, tet_volumes):
         t2[np.arange(len(el)), a] = n + np.arange(len(el))
         trial = np.concatenate([points, newp])
         bad = (tet_volumes(trial, t1) <= 0) | (tet_volumes(trial, t2) <= 0)
+        # Nor pieces flatter than the mesh was asked to be (or than their parent, if it is already).
+        floor = np.minimum(dihedral_angles(points, tets[el]).min(axis=1), SPLIT_MIN_DIHEDRAL)
+        ok_vol = ~bad
+        if ok_vol.any():
+            worst = np.minimum(dihedral_angles(trial, t1[ok_vol]).min(axis=1), dihedral_angles(trial, t2[ok_vol]).min(axis=1))
+            bad[ok_vol] = worst < floor[ok_vol]
         drop = np.union1d(drop, e[bad])
         if drop.size == 0:
             break
