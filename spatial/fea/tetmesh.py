@@ -33,7 +33,7 @@ from implicit.solid import Solid, as_positive
 from .facets import FacetField
 from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
                       surface_for_fea)
-from .curved import add_midnodes, project_midnodes, split_folding_edges
+from .curved import add_midnodes, project_midnodes
 from .size_field import curvature_size
 from .resolve import resolving_field
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
@@ -288,14 +288,8 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     tets = elems
     n_corner = len(nodes)
     if order == 2:
-        ff = FacetField(solid)
-        # Boundary edges whose curved mid node would fold an element: split at the surface first.
-        nodes, split = split_folding_edges(solid, ff, nodes, elems, bfaces, size)
-        if len(split) != len(elems):
-            elems = split
-            bfaces, belem, bside = boundary_faces(elems)
-            n_corner = len(nodes)
         nodes, tets, _ = add_midnodes(nodes, elems)
+        ff = FacetField(solid)
         nodes = project_midnodes(solid, ff, nodes, tets, bfaces, n_corner, size)
     ff = FacetField(solid)
     face_sets, node_sets = _name_sets(ff, nodes, bfaces, bside, belem, tets)
