@@ -35,7 +35,7 @@ def test_gear_at_size_5_meshes_graded_with_tooth_tips_as_nodes(gear_at_5):
     e = m.tets[:, [0, 1, 0, 2, 0, 3, 1, 2, 1, 3, 2, 3]].reshape(-1, 2)
     length = np.linalg.norm(m.points[e[:, 0]] - m.points[e[:, 1]], axis=1)
     r = np.hypot(*(0.5 * (m.points[e[:, 0]] + m.points[e[:, 1]]))[:, :2].T)
-    assert np.median(length[r > 17.5]) < 2.0 < 3.0 < np.median(length[r < 14.0])
+    assert np.median(length[r > 17.5]) < 2.0 and np.median(length[r < 14.0]) > 3.0
     # the corners of the tooth tips, on both faces of the gear, are nodes
     outline = ns["gear_outline"]()
     tips = outline[np.isclose(np.hypot(*outline.T), ns["MODULE"] * (ns["TEETH"] / 2 + 1))]
