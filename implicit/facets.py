@@ -15,7 +15,12 @@ from .facet_gradients import leaf_facets_with_gradients
 from .profile_facets import polygon_runs, run_fields
 from .solid import Solid
 
-__all__ = ["FacetField", "facet_field"]
+__all__ = ["FacetField", "facet_field", "SMOOTH_KINDS"]
+
+#: Leaves whose every facet is a smooth (C1) surface near the boundary: a cell of a mesh whose
+#: vertices all lie on one such facet holds no sharp edge, however much its normals turn.
+#: (A cone is not among them: its rims are edges of its one facet.)
+SMOOTH_KINDS = frozenset({"box", "cylinder", "sphere", "torus", "capsule", "halfspace"})
 
 
 # ---------------------------------------------------------------------------
@@ -111,6 +116,8 @@ class FacetField:
     names : list of str
         One name per facet, e.g. ``"cylinder_2.wall"`` (kind, leaf number in
         depth-first order, facet).
+    smooth : (k,) bool
+        Per facet: a smooth surface (a leaf of `SMOOTH_KINDS`: no edge of its own).
     """
 
     def __init__(self, solid: Solid, *, split_sides: bool = False):
@@ -121,6 +128,21 @@ class FacetField:
         self.names: list[str] = []
         pts = np.zeros((1, 3))
         self._walk(solid, pts, [], self.names, [0])
+        flags: list = []
+        self._smooth_flags(solid, flags)
+        #: Per facet: its zero set is smooth (a plane, sphere, torus, cylinder wall... `SMOOTH_KINDS`).
+        self.smooth = np.array(flags, dtype=np.bool_).reshape(-1)
+
+    def _smooth_flags(self, node, out):
+        """`smooth` in the facets' order (that of `_values`)."""
+        kind = node.kind
+        if kind in ("union", "intersection", "difference"):
+            for c in node.children:
+                self._smooth_flags(c, out)
+        elif kind in ("complement", "family", "affine", "offset"):
+            self._smooth_flags(node.children[0], out)
+        else:
+            out.extend([kind in SMOOTH_KINDS] * self._n_facets(node))
 
     def _walk(self, node, p, vals, names, counter):
         kind = node.kind

@@ -78,3 +78,14 @@ def test_gradients_of_selected_facets():
     assert got.shape == (300, 2, 3)
     with pytest.raises(ValueError, match="which"):
         ff.gradients_of(p, which[:10])
+
+
+def test_smooth_flags_follow_the_facets():
+    """One flag per facet, in the order of `names`: a cone's one facet holds its rims, so it is not smooth."""
+    from implicit import box, cone, cylinder, sphere, torus
+    from implicit.facets import FacetField
+
+    ff = FacetField((box(2.0) - cylinder(0.5, 4.0)) | sphere(1.0, center=(3.0, 0.0, 0.0)) | torus() | cone(1.0, 0.5))
+    assert len(ff.smooth) == len(ff.names) == 6 + 3 + 1 + 1 + 1
+    assert ff.smooth.tolist() == [True] * 11 + [False]
+    assert ff.names[-1].startswith("cone")

@@ -5,7 +5,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import spatial
-from implicit import box, cylinder, sphere
+from implicit import box, capsule, cylinder, sphere, torus
 from spatial.meshing import feature_edges, mesh
 
 from meshcheck import min_area, signed_volume, topology, vertex_manifold
@@ -110,6 +110,25 @@ def test_benchmark_part_volume_and_corners():
     assert np.median(d) < 0.01 * h and d.max() < 0.3 * h
     assert distances(plain, rims).max() > 0.5 * h
     assert m.n_cells < 1.1 * plain.n_cells
+
+
+@pytest.mark.parametrize("n", [12, 16, 24, 32])
+def test_smooth_parts_get_no_feature_vertex(n):
+    """A smooth face that turns a lot across a coarse voxel is no edge (its QEF reads as two planes)."""
+    for solid in (torus(1.0, 0.25), torus(1.0, 0.35), sphere(1.0), capsule((0, 0, -0.5), (0, 0, 0.5), 0.4)):
+        m = mesh(solid, resolution=n)
+        assert int((m.point_data["feature_rank"] > 0).sum()) == 0, (solid, n)
+        assert m.n_cells == mesh(solid, resolution=n, features=False).n_cells
+
+
+@pytest.mark.parametrize("n", [16, 24, 32])
+def test_coarse_benchmark_part_keeps_every_edge(n):
+    """Its 15 curves (6 box faces with a drill, 6 with the sphere, 3 drill pairs) and the 8 drill corners."""
+    fe = feature_edges(mesh(BENCH, resolution=n))
+    labels = set(fe.labels)
+    assert len(labels) == 15 and fe.corners.shape == (8, 3)
+    assert sum(("sphere" in a) != ("sphere" in b) for a, b in labels) == 6
+    assert sum(a.startswith("cylinder") and b.startswith("cylinder") for a, b in labels) == 3
 
 
 def test_deterministic_and_default_on():
