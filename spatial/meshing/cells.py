@@ -25,7 +25,7 @@ OVERLAP_MIN_SLABS = 3
 
 def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
                block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, uniform_parents=None, node_values=None,
-               features=False, stride=None, edge_ids=False, slab_threads=1, _stacklevel=2):
+               features=None, stride=None, edge_ids=False, slab_threads=1, _stacklevel=2):
     """Mesh the boundary through the given cells of a lattice.
 
     Parameters
@@ -41,8 +41,13 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         sign only (FULL or EMPTY).
     cell_size : {1, 2}
         Voxels per side of a cell.
-    refine, progress, block, features
+    refine, progress, block
         See `mesh`.
+    features : bool or None
+        Rebuild sharp edges and corners, as `mesh` does by default.  None
+        (the default) is True, except with ``edge_ids=True``: the feature pass
+        moves and adds vertices off the lattice edges that the ids name, so a
+        mesh whose parts are fused by those ids stays plain.
     evaluations : int
         Evaluations already spent (added to the mesh's count).
     centre_values : (m,) float, optional
@@ -96,6 +101,10 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         raise ValueError("cells: expected non-negative lattice indices")
     if isinstance(slab_threads, bool) or slab_threads not in (1, 2):
         raise ValueError(f"slab_threads: expected 1 or 2, got {slab_threads!r}")
+    if features is None:
+        features = not edge_ids
+    if not isinstance(features, (bool, np.bool_)):
+        raise TypeError(f"features: expected True, False or None, got {features!r}")
     if edge_ids and features:
         raise ValueError("edge_ids: the feature pass moves and adds vertices off their lattice edges; "
                          "give edge_ids=True or features=True, not both")

@@ -205,7 +205,8 @@ def test_inferred_signs_give_the_fully_sampled_mesh(solid, n):
     assert found["uniform"] is not None and found["nodes"] is not None
     lean = mesh(solid, resolution=n, refine=False, features=False)
     # every node of every boundary cell sampled: no centre values, no uniform cells, no known nodes
-    full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False)
+    full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False,
+                      features=False)
     assert lean.n_cells == full.n_cells and lean.n_points == full.n_points
     assert np.allclose(np.sort(lean.points, axis=0), np.sort(full.points, axis=0), atol=1e-12)
     assert lean.field_data["evaluations"][0] < full.field_data["evaluations"][0] + found["evaluations"]
@@ -254,7 +255,8 @@ def _lean_and_full(solid, n):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         lean = mesh(solid, resolution=n, refine=False, features=False)
-        full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False)
+        full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False,
+                      features=False)
     return lean, full
 
 

@@ -227,3 +227,24 @@ def test_no_unused_vertices():
     lo, hi = s.bounds
     m = mesh(s, resolution=16, bounds=(lo - 0.1, hi + 0.1), features=True)
     assert np.unique(m.faces.reshape(-1, 4)[:, 1:]).size == m.n_points
+
+
+def test_mesh_cells_default_is_the_feature_mesh():
+    """`mesh_cells` rebuilds features as `mesh` does, except for meshes whose parts are fused by edge ids."""
+    from spatial.cells.lattice import make_lattice
+    from spatial.meshing.boundary import _boundary_cells_2h
+    from spatial.meshing.cells import mesh_cells
+
+    solid = box(1.0) - cylinder(0.25, 2.0)
+    lattice = make_lattice(solid, resolution=16)
+    cells = _boundary_cells_2h(lattice, False)["cells"]
+    args = (solid, lattice.origin, lattice.voxel_size, cells)
+    sharp = mesh_cells(*args, cell_size=2)
+    assert int((sharp.point_data["feature_rank"] == 3).sum()) == 8
+    assert np.array_equal(sharp.faces, mesh_cells(*args, cell_size=2, features=True).faces)
+    ids = mesh_cells(*args, cell_size=2, edge_ids=True)
+    assert "feature_rank" not in ids.point_data and "edge_id" in ids.point_data
+    with pytest.raises(ValueError, match="edge_ids"):
+        mesh_cells(*args, cell_size=2, edge_ids=True, features=True)
+    with pytest.raises(TypeError, match="features"):
+        mesh_cells(*args, cell_size=2, features="yes")
