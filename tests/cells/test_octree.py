@@ -8,6 +8,7 @@ from hypothesis import given, settings
 
 from implicit import box, halfspace, sphere, torus
 from implicit.solid import Solid
+import spatial.meshing  # noqa: F401  (provides the mesher of Octree.to_mesh: `import spatial` is lazy)
 from spatial import BOUNDARY, EMPTY, FULL, OccupancyGrid, Octree
 
 from solid_strategies import solids
@@ -143,7 +144,6 @@ def test_bad_input():
 
 
 def test_to_mesh_rebuilds_sharp_features_by_default():
-    import spatial.meshing  # noqa: F401  (provides the mesher)
     from implicit import box
 
     tree = Octree.from_solid(box(1.0), resolution=8)
