@@ -158,7 +158,9 @@ def sharpen(solid, points, faces, origin, h):
     from implicit.facets import FacetField
 
     pts = np.asarray(points, dtype=np.float64)
-    f = np.asarray(faces, dtype=np.int64)
+    f = np.ascontiguousarray(faces)
+    if f.dtype not in (np.int32, np.int64):  # the mesher's int32 triangles are read as they are
+        f = f.astype(np.int64)
     n = pts.shape[0]
     ff = FacetField(solid)
     plain = dict(points=pts, faces=f, feature_rank=np.zeros(n, np.int8),
