@@ -9,7 +9,8 @@ import numpy as np
 
 from ..files.progress import progress_bar
 from ..files.surface import triangle_surface
-from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _settle_ties, _stable_order, empty_mesh
+from .arrays import (DEFAULT_BLOCK, REFINE_ACCEPT, REFINE_TOL, _nudge, _release_free_memory, _settle_ties, _stable_order,
+                     empty_mesh, refine_scale)
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharp_polydata
 from .refine import _certified, _refine_on_edges
@@ -220,7 +221,11 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         free[inner] = False
         rows = np.flatnonzero(free).astype(np.int32)
         del free
-        spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows, threads=slab_threads)
+        # the stop tolerances shrink with h past REFINE_FULL_N voxels across the solid (`refine_scale`; a
+        # certified vertex is within REFINE_ACCEPT h by a bound, its true error O(h^2) already)
+        scale = refine_scale(solid, h)
+        spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows, tol=REFINE_TOL * scale,
+                                 accept=REFINE_ACCEPT * scale, threads=slab_threads)
         evaluations += spent
         del rows
     del f0, f1

@@ -305,3 +305,33 @@ def test_slabs_prepared_on_a_worker_thread_give_the_same_mesh(monkeypatch):
     assert np.array_equal(np.asarray(serial.points), np.asarray(threaded.points))
     assert np.array_equal(np.asarray(serial.faces), np.asarray(threaded.faces))
     assert serial.field_data["evaluations"][0] == threaded.field_data["evaluations"][0]
+
+
+def test_refine_tolerances_shrink_with_the_voxel(monkeypatch):
+    """Past REFINE_FULL_N voxels across the solid the stop tolerances fall as h (the distance left as h^2)."""
+    import spatial.meshing.cells as cells
+    from spatial.meshing.arrays import REFINE_ACCEPT, REFINE_FULL_N, REFINE_TOL, refine_scale
+
+    assert refine_scale(sphere(1.0), 2.0 / 64) == 1.0
+    assert refine_scale(sphere(1.0), 2.0 / 512) == pytest.approx(REFINE_FULL_N / 512)
+    assert refine_scale(halfspace((0, 0, 1)), 1e-6) == 1.0        # unbounded: as before
+    seen = {}
+    real = cells._refine_on_edges
+
+    def spy(*args, **kwargs):
+        seen.update(kwargs)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(cells, "_refine_on_edges", spy)
+    # a patch of a large sphere (16 voxels across a region 1/200 of the solid's size), meshed with the
+    # sphere itself (`mesh` would clip it to the region, whose size would then count)
+    from spatial.cells.lattice import make_lattice
+    from spatial.meshing.boundary import _boundary_cells_2h
+
+    big = sphere(100.0)
+    lattice = make_lattice(big, bounds=((99.5, -0.5, -0.5), (100.5, 0.5, 0.5)), resolution=16)
+    found = _boundary_cells_2h(lattice, False)
+    cells.mesh_cells(big, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, features=False)
+    s = REFINE_FULL_N * lattice.voxel_size / 200.0
+    assert s < 0.05
+    assert seen["tol"] == pytest.approx(REFINE_TOL * s) and seen["accept"] == pytest.approx(REFINE_ACCEPT * s)
