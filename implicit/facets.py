@@ -15,7 +15,7 @@ from .facet_gradients import leaf_facets_with_gradients
 from .profile_facets import polygon_runs, run_fields
 from .solid import Solid
 
-__all__ = ["FacetField", "facet_field", "SMOOTH_KINDS"]
+__all__ = ["SMOOTH_KINDS", "FacetField", "facet_field"]
 
 #: Leaves whose every facet is a smooth (C1) surface near the boundary: a cell of a mesh whose
 #: vertices all lie on one such facet holds no sharp edge, however much its normals turn.

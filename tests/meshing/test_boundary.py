@@ -309,8 +309,10 @@ def test_slabs_prepared_on_a_worker_thread_give_the_same_mesh(monkeypatch):
 
 def test_refine_tolerances_shrink_with_the_voxel(monkeypatch):
     """Past REFINE_FULL_N voxels across the solid the stop tolerances fall as h (the distance left as h^2)."""
-    import spatial.meshing.cells as cells
+    from spatial.cells.lattice import make_lattice
+    from spatial.meshing import cells
     from spatial.meshing.arrays import REFINE_ACCEPT, REFINE_FULL_N, REFINE_TOL, refine_scale
+    from spatial.meshing.boundary import _boundary_cells_2h
 
     assert refine_scale(sphere(1.0), 2.0 / 64) == 1.0
     assert refine_scale(sphere(1.0), 2.0 / 512) == pytest.approx(REFINE_FULL_N / 512)
@@ -325,9 +327,6 @@ def test_refine_tolerances_shrink_with_the_voxel(monkeypatch):
     monkeypatch.setattr(cells, "_refine_on_edges", spy)
     # a patch of a large sphere (16 voxels across a region 1/200 of the solid's size), meshed with the
     # sphere itself (`mesh` would clip it to the region, whose size would then count)
-    from spatial.cells.lattice import make_lattice
-    from spatial.meshing.boundary import _boundary_cells_2h
-
     big = sphere(100.0)
     lattice = make_lattice(big, bounds=((99.5, -0.5, -0.5), (100.5, 0.5, 0.5)), resolution=16)
     found = _boundary_cells_2h(lattice, False)
