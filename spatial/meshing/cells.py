@@ -9,8 +9,8 @@ import numpy as np
 
 from ..files.progress import progress_bar
 from ..files.surface import triangle_surface
-from .arrays import (DEFAULT_BLOCK, REFINE_ACCEPT, REFINE_TOL, _nudge, _release_free_memory, _settle_ties, _stable_order,
-                     empty_mesh, refine_scale)
+from .arrays import (DEFAULT_BLOCK, REFINE_ACCEPT, REFINE_TOL, ZERO_NUDGE, _nudge, _release_free_memory, _settle_ties,
+                     _stable_order, empty_mesh, refine_scale)
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharp_polydata
 from .refine import _certified, _refine_on_edges
@@ -221,11 +221,19 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         free[inner] = False
         rows = np.flatnonzero(free).astype(np.int32)
         del free
-        # the stop tolerances shrink with h past REFINE_FULL_N voxels across the solid (`refine_scale`; a
-        # certified vertex is within REFINE_ACCEPT h by a bound, its true error O(h^2) already)
+        # beside a tie (an end pushed ZERO_NUDGE h off the level) the stop tolerances shrink with h past
+        # REFINE_FULL_N voxels across the solid (`refine_scale`): a fixed fraction of h left those vertices
+        # a first-order distance off.  Elsewhere the free last step already leaves an O(h^2) error.
         scale = refine_scale(solid, h)
-        spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows, tol=REFINE_TOL * scale,
-                                 accept=REFINE_ACCEPT * scale, threads=slab_threads)
+        if scale < 1.0 and rows.size:
+            floor = np.float32(ZERO_NUDGE * h * (1 + 1e-3))
+            tied = (np.abs(f0[rows]) <= floor) | (np.abs(f1[rows]) <= floor)
+            spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows[tied], tol=REFINE_TOL * scale,
+                                     accept=REFINE_ACCEPT * scale, threads=slab_threads)
+            rows = rows[~tied]
+            del tied
+            evaluations += spent
+        spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows, threads=slab_threads)
         evaluations += spent
         del rows
     del f0, f1
