@@ -25,9 +25,8 @@ REFINE_ACCEPT = 2e-3
 #: across the solid; finer, beside ties, they shrink with the voxel (`refine_scale`), so that the distance a
 #: stopped vertex may keep from the surface falls as h^2.  A fixed fraction of h left a first-order volume
 #: error on faces lying in lattice planes, -2.6e-3 / N on the benchmark part: beside a node whose sample was a
-#: tie, pushed
-#: `ZERO_NUDGE` h off the level, the vertex's first value is about that nudge, within `REFINE_ACCEPT` h, and
-#: its last free step leaves it about half the nudge inside.  Only those vertices (an end within the nudge)
+#: tie, pushed `ZERO_NUDGE` h off the level, the vertex's first value is about that nudge, within
+#: `REFINE_ACCEPT` h, and its last free step leaves it about half the nudge inside.  Only those vertices (an end within the nudge)
 #: take the scaled tolerances: elsewhere the free last step already leaves an O(h^2) error.
 REFINE_FULL_N = 128
 #: Boxes bounded per call while descending (caps the memory of the classification).
