@@ -15,7 +15,12 @@ from .facet_gradients import leaf_facets_with_gradients
 from .profile_facets import polygon_runs, run_fields
 from .solid import Solid
 
-__all__ = ["FacetField", "facet_field"]
+__all__ = ["SMOOTH_KINDS", "FacetField", "facet_field"]
+
+#: Leaves whose every facet is a smooth (C1) surface near the boundary: a cell of a mesh whose
+#: vertices all lie on one such facet holds no sharp edge, however much its normals turn.
+#: (A cone is not among them: its rims are edges of its one facet.)
+SMOOTH_KINDS = frozenset({"box", "cylinder", "sphere", "torus", "capsule", "halfspace"})
 
 
 # ---------------------------------------------------------------------------
@@ -111,6 +116,8 @@ class FacetField:
     names : list of str
         One name per facet, e.g. ``"cylinder_2.wall"`` (kind, leaf number in
         depth-first order, facet).
+    smooth : (k,) bool
+        Per facet: a smooth surface (a leaf of `SMOOTH_KINDS`: no edge of its own).
     """
 
     def __init__(self, solid: Solid, *, split_sides: bool = False):
@@ -121,6 +128,21 @@ class FacetField:
         self.names: list[str] = []
         pts = np.zeros((1, 3))
         self._walk(solid, pts, [], self.names, [0])
+        flags: list = []
+        self._smooth_flags(solid, flags)
+        #: Per facet: its zero set is smooth (a plane, sphere, torus, cylinder wall... `SMOOTH_KINDS`).
+        self.smooth = np.array(flags, dtype=np.bool_).reshape(-1)
+
+    def _smooth_flags(self, node, out):
+        """`smooth` in the facets' order (that of `_values`)."""
+        kind = node.kind
+        if kind in ("union", "intersection", "difference"):
+            for c in node.children:
+                self._smooth_flags(c, out)
+        elif kind in ("complement", "family", "affine", "offset"):
+            self._smooth_flags(node.children[0], out)
+        else:
+            out.extend([kind in SMOOTH_KINDS] * self._n_facets(node))
 
     def _walk(self, node, p, vals, names, counter):
         kind = node.kind
@@ -204,7 +226,56 @@ class FacetField:
         ['cylinder_1.wall']
         """
         p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
-        return self._walk(self.solid, p, [], [], [0])
+        return self._walk_decide(self.solid, p, [0])
+
+    def _walk_decide(self, node, p, at):
+        """`_walk` without the facets' list: the field and the deciding facet (`at`: next facet index).
+
+        A sharp box's or a cylinder's field is built from the facet values
+        already computed, by the same operations as its ``_evaluate`` (so the
+        same bits: ``|x| - h`` is the larger of ``x - h`` and ``-x - h``), and
+        a one-facet leaf's field is its facet: each leaf is evaluated once.
+        """
+        kind = node.kind
+        if kind in ("union", "intersection", "difference"):
+            return _decide(kind, [self._walk_decide(c, p, at) for c in node.children])
+        if kind == "family":
+            return self._walk_decide(node.children[0], p, at)
+        if kind == "complement":
+            v, d = self._walk_decide(node.children[0], p, at)
+            return -v, d
+        if kind == "affine":
+            q = np.ascontiguousarray((p - node._offset) @ node._inv.T)
+            v, d = self._walk_decide(node.children[0], q, at)
+            return (v * node._factor if node._factor != 1.0 else v), d
+        if kind == "offset":
+            v, d = self._walk_decide(node.children[0], p, at)
+            return v - node.params["distance"], d
+        start = at[0]
+        at[0] += self._n_facets(node)
+        if kind == "box" and not getattr(node, "_rr", 0.0):
+            q = p - node._c
+            up, down = q - node._h, -q - node._h
+            dec = _first_max([up[:, 0], up[:, 1], up[:, 2], down[:, 0], down[:, 1], down[:, 2]])
+            a = np.maximum(up, down)          # = np.abs(q) - h, bit for bit
+            outside = np.sqrt(np.einsum("ij,ij->i", np.maximum(a, 0), np.maximum(a, 0)))
+            inside = np.minimum(a.max(axis=1), 0.0)
+            return outside + inside - node._rr, start + dec
+        if kind == "cylinder":
+            q = (p - node._c) @ node._frame.T
+            dr = np.hypot(q[:, 0], q[:, 1]) - node._r
+            top, bottom = q[:, 2] - node._hh, -q[:, 2] - node._hh
+            dec = _first_max([dr, top, bottom])
+            dz = np.maximum(top, bottom)      # = np.abs(q[:, 2]) - hh, bit for bit
+            outside = np.hypot(np.maximum(dr, 0), np.maximum(dz, 0))
+            return outside + np.minimum(np.maximum(dr, dz), 0.0), start + dec
+        if self._split(node):
+            _, _, _, dec = split_side(node, p)
+            return np.asarray(node._evaluate(p), dtype=np.float64), start + dec
+        sub, fv = _leaf_facets(node, p)
+        if len(sub) == 1:
+            return np.asarray(fv[0], dtype=np.float64), np.full(p.shape[0], start, dtype=np.intp)
+        return np.asarray(node._evaluate(p), dtype=np.float64), start + fv.argmax(axis=0)
 
     def facet_values(self, points):
         """Every facet's field ``(k, n)`` alone (no CSG decision: cheaper than calling the field).
@@ -402,6 +473,17 @@ class FacetField:
 def facet_field(solid: Solid) -> FacetField:
     """The `FacetField` of `solid` (see there)."""
     return FacetField(solid)
+
+
+def _first_max(rows):
+    """Index of the first largest of the equal-length arrays `rows`, per column (``argmax`` of their stack)."""
+    best = rows[0]
+    idx = np.zeros(best.shape[0], dtype=np.intp)
+    for j in range(1, len(rows)):
+        more = rows[j] > best
+        idx[more] = j
+        best = np.maximum(best, rows[j])
+    return idx
 
 
 def _decide(kind, results):

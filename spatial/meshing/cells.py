@@ -9,7 +9,8 @@ import numpy as np
 
 from ..files.progress import progress_bar
 from ..files.surface import triangle_surface
-from .arrays import DEFAULT_BLOCK, _nudge, _release_free_memory, _settle_ties, _stable_order, empty_mesh
+from .arrays import (DEFAULT_BLOCK, REFINE_ACCEPT, REFINE_TOL, ZERO_NUDGE, _nudge, _release_free_memory, _settle_ties,
+                     _stable_order, empty_mesh, refine_scale)
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharp_polydata
 from .refine import _certified, _refine_on_edges
@@ -25,7 +26,7 @@ OVERLAP_MIN_SLABS = 3
 
 def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, progress=None, evaluations=0,
                block=DEFAULT_BLOCK, centre_values=None, uniform_cells=None, uniform_parents=None, node_values=None,
-               features=False, stride=None, edge_ids=False, slab_threads=1, _stacklevel=2):
+               features=None, stride=None, edge_ids=False, slab_threads=1, _stacklevel=2):
     """Mesh the boundary through the given cells of a lattice.
 
     Parameters
@@ -41,8 +42,13 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         sign only (FULL or EMPTY).
     cell_size : {1, 2}
         Voxels per side of a cell.
-    refine, progress, block, features
+    refine, progress, block
         See `mesh`.
+    features : bool or None
+        Rebuild sharp edges and corners, as `mesh` does by default.  None
+        (the default) is True, except with ``edge_ids=True``: the feature pass
+        moves and adds vertices off the lattice edges that the ids name, so a
+        mesh whose parts are fused by those ids stays plain.
     evaluations : int
         Evaluations already spent (added to the mesh's count).
     centre_values : (m,) float, optional
@@ -96,6 +102,10 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         raise ValueError("cells: expected non-negative lattice indices")
     if isinstance(slab_threads, bool) or slab_threads not in (1, 2):
         raise ValueError(f"slab_threads: expected 1 or 2, got {slab_threads!r}")
+    if features is None:
+        features = not edge_ids
+    if not isinstance(features, (bool, np.bool_)):
+        raise TypeError(f"features: expected True, False or None, got {features!r}")
     if edge_ids and features:
         raise ValueError("edge_ids: the feature pass moves and adds vertices off their lattice edges; "
                          "give edge_ids=True or features=True, not both")
@@ -211,6 +221,18 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         free[inner] = False
         rows = np.flatnonzero(free).astype(np.int32)
         del free
+        # beside a tie (an end pushed ZERO_NUDGE h off the level) the stop tolerances shrink with h past
+        # REFINE_FULL_N voxels across the solid (`refine_scale`): a fixed fraction of h left those vertices
+        # a first-order distance off.  Elsewhere the free last step already leaves an O(h^2) error.
+        scale = refine_scale(solid, h)
+        if scale < 1.0 and rows.size:
+            floor = np.float32(ZERO_NUDGE * h * (1 + 1e-3))
+            tied = (np.abs(f0[rows]) <= floor) | (np.abs(f1[rows]) <= floor)
+            spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows[tied], tol=REFINE_TOL * scale,
+                                     accept=REFINE_ACCEPT * scale, threads=slab_threads)
+            rows = rows[~tied]
+            del tied
+            evaluations += spent
         spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows, threads=slab_threads)
         evaluations += spent
         del rows

@@ -26,6 +26,14 @@ def _at_node(pts, origin, h, node_tol):
     return at, axis
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _tri_normal(pts, a, b, c):
+    """Cross product of the triangle (a, b, c)'s edges from `a` (twice its area, along its normal)."""
+    ux = pts[b, 0] - pts[a, 0]; uy = pts[b, 1] - pts[a, 1]; uz = pts[b, 2] - pts[a, 2]
+    vx = pts[c, 0] - pts[a, 0]; vy = pts[c, 1] - pts[a, 1]; vz = pts[c, 2] - pts[a, 2]
+    return uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+
+
 @numba.njit(cache=True, nogil=True)
 def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
     """Lattice cell of every triangle and whether it departs from a vertex normal (one pass each)."""
@@ -35,28 +43,26 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
     # cells' lexicographic order whatever the corner and the stride, as long as they cover the mesh
     lo = np.empty(3, np.int64)
     s = np.int64(1)
-    for j in range(3):
-        a, b = np.inf, -np.inf
-        for v in range(n):
+    bottom = np.full(3, np.inf)
+    top = np.full(3, -np.inf)
+    for v in range(n):
+        for j in range(3):
             q = pts[v, j]
-            if q < a:
-                a = q
-            if q > b:
-                b = q
-        lo[j] = np.int64(np.floor((a - origin[j]) / h)) - 1
-        span = np.int64(np.floor((b - origin[j]) / h)) - lo[j] + 2
+            if q < bottom[j]:
+                bottom[j] = q
+            if q > top[j]:
+                top[j] = q
+    for j in range(3):
+        lo[j] = np.int64(np.floor((bottom[j] - origin[j]) / h)) - 1
+        span = np.int64(np.floor((top[j] - origin[j]) / h)) - lo[j] + 2
         if span > s:
             s = span
     vn = np.zeros((n, 3))
-    tn = np.empty((m, 3))
     key = np.empty(m, np.int64)
     third = 1.0 / 3.0
     for t in range(m):
         a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
-        ux = pts[b, 0] - pts[a, 0]; uy = pts[b, 1] - pts[a, 1]; uz = pts[b, 2] - pts[a, 2]
-        vx = pts[c, 0] - pts[a, 0]; vy = pts[c, 1] - pts[a, 1]; vz = pts[c, 2] - pts[a, 2]
-        cx = uy * vz - uz * vy; cy = uz * vx - ux * vz; cz = ux * vy - uy * vx
-        tn[t, 0] = cx; tn[t, 1] = cy; tn[t, 2] = cz
+        cx, cy, cz = _tri_normal(pts, a, b, c)
         vn[a, 0] += cx; vn[a, 1] += cy; vn[a, 2] += cz
         vn[b, 0] += cx; vn[b, 1] += cy; vn[b, 2] += cz
         vn[c, 0] += cx; vn[c, 1] += cy; vn[c, 2] += cz
@@ -71,12 +77,14 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
             vn[v, 0] /= r; vn[v, 1] /= r; vn[v, 2] /= r
     marked = np.zeros(m, np.bool_)
     for t in range(m):
-        r = np.sqrt(tn[t, 0] ** 2 + tn[t, 1] ** 2 + tn[t, 2] ** 2)
+        # (the triangle's normal again, the same bits: cheaper than storing every one)
+        cx, cy, cz = _tri_normal(pts, faces[t, 0], faces[t, 1], faces[t, 2])
+        r = np.sqrt(cx ** 2 + cy ** 2 + cz ** 2)
         if r > 0:
             worst = 1.0
             for k in range(3):
                 v = faces[t, k]
-                d = (tn[t, 0] * vn[v, 0] + tn[t, 1] * vn[v, 1] + tn[t, 2] * vn[v, 2]) / r
+                d = (cx * vn[v, 0] + cy * vn[v, 1] + cz * vn[v, 2]) / r
                 if d < worst:
                     worst = d
             n_node = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]

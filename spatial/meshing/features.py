@@ -16,7 +16,9 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    the cell's vertices is minimised around their mass point with the
    pseudo-inverse of ``A^T A`` whose eigenvalues below ``EIGEN_CUTOFF`` times
    the largest are dropped; the number kept is the cell's rank (2: an edge,
-   3: a corner).  When the cell holds exactly that many faces, a few
+   3: a corner); a cell whose vertices all lie on one smooth facet (a
+   sphere, a torus, a plane: `implicit.facets.SMOOTH_KINDS`) is none,
+   whatever its rank at a coarse voxel.  When the cell holds exactly that many faces, a few
    Gauss-Newton steps on their fields put the vertex on their exact common
    curve or point (curved faces included).  An edge point that falls
    outside its cell slides along the curve's tangent into it and is put
@@ -156,7 +158,9 @@ def sharpen(solid, points, faces, origin, h):
     from implicit.facets import FacetField
 
     pts = np.asarray(points, dtype=np.float64)
-    f = np.asarray(faces, dtype=np.int64)
+    f = np.ascontiguousarray(faces)
+    if f.dtype not in (np.int32, np.int64):  # the mesher's int32 triangles are read as they are
+        f = f.astype(np.int64)
     n = pts.shape[0]
     ff = FacetField(solid)
     plain = dict(points=pts, faces=f, feature_rank=np.zeros(n, np.int8),
@@ -193,7 +197,9 @@ def sharpen(solid, points, faces, origin, h):
     x, rank, labels, n_faces, b0, b1, bc, disc = _solve_cells(pts, f, tri, tcell, pvert, normal, pinv, starts,
                                                               decider, EIGEN_CUTOFF)
     cell_lo = origin + (np.stack([cand // (s * s), (cand // s) % s, cand % s], axis=1) + lo) * h
-    feature = rank >= 2
+    # a cell on one smooth face (a sphere, torus, plane...) holds no edge, however much the face turns
+    # across it at a coarse voxel (its QEF then reads as two planes)
+    feature = (rank >= 2) & ~((n_faces == 1) & ff.smooth[np.maximum(labels[:, 0], 0)])
     x = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
     margin = CELL_MARGIN * h
     x = np.clip(x, cell_lo + margin, cell_lo + h - margin)

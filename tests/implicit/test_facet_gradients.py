@@ -78,3 +78,35 @@ def test_gradients_of_selected_facets():
     assert got.shape == (300, 2, 3)
     with pytest.raises(ValueError, match="which"):
         ff.gradients_of(p, which[:10])
+
+
+def test_smooth_flags_follow_the_facets():
+    """One flag per facet, in the order of `names`: a cone's one facet holds its rims, so it is not smooth."""
+    from implicit import box, cone, cylinder, sphere, torus
+    from implicit.facets import FacetField
+
+    ff = FacetField((box(2.0) - cylinder(0.5, 4.0)) | sphere(1.0, center=(3.0, 0.0, 0.0)) | torus() | cone(1.0, 0.5))
+    assert len(ff.smooth) == len(ff.names) == 6 + 3 + 1 + 1 + 1
+    assert ff.smooth.tolist() == [True] * 11 + [False]
+    assert ff.names[-1].startswith("cone")
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_decide_is_the_full_walk_bit_for_bit(seed):
+    """`decide` rebuilds box and cylinder fields from their facets: the same field and facet as `__call__`."""
+    from implicit import extrude
+    from implicit.profiles import rectangle
+
+    rng = np.random.default_rng(seed)
+    tree = ((box((1.0, 0.8, 0.6), center=(0.1, 0.0, -0.1)) & sphere(0.75))
+            - cylinder(0.25, 2.0, axis=(1.0, 0.2, 0.1)) - rotate(cylinder(0.2, 2.0), 40.0, (0.0, 1.0, 0.0)))
+    tree = tree | offset(scale(torus(0.5, 0.1), (1.0, 0.7, 1.2)), 0.02) | extrude(rectangle((0.4, 0.3)), 0.2)
+    tree = tree - translate(rounded_box((0.3, 0.3, 0.3), 0.05), (0.4, 0.0, 0.3)) | capsule((0, 0, 0.5), (0, 0.3, 0.6), 0.1)
+    for solid in (tree, ~tree, box(1.0), cylinder(0.4, 1.0)):
+        for split in (False, True):
+            ff = FacetField(solid, split_sides=split)
+            p = rng.uniform(-0.9, 0.9, (4000, 3))
+            p[:1000] = np.round(p[:1000] * 8) / 8          # points on the facets' planes: ties
+            value, dec, _ = ff(p)
+            v2, d2 = ff.decide(p)
+            assert np.array_equal(value, v2) and np.array_equal(dec, d2)

@@ -205,7 +205,8 @@ def test_inferred_signs_give_the_fully_sampled_mesh(solid, n):
     assert found["uniform"] is not None and found["nodes"] is not None
     lean = mesh(solid, resolution=n, refine=False, features=False)
     # every node of every boundary cell sampled: no centre values, no uniform cells, no known nodes
-    full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False)
+    full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False,
+                      features=False)
     assert lean.n_cells == full.n_cells and lean.n_points == full.n_points
     assert np.allclose(np.sort(lean.points, axis=0), np.sort(full.points, axis=0), atol=1e-12)
     assert lean.field_data["evaluations"][0] < full.field_data["evaluations"][0] + found["evaluations"]
@@ -254,7 +255,8 @@ def _lean_and_full(solid, n):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         lean = mesh(solid, resolution=n, refine=False, features=False)
-        full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False)
+        full = mesh_cells(solid, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, refine=False,
+                      features=False)
     return lean, full
 
 
@@ -303,3 +305,34 @@ def test_slabs_prepared_on_a_worker_thread_give_the_same_mesh(monkeypatch):
     assert np.array_equal(np.asarray(serial.points), np.asarray(threaded.points))
     assert np.array_equal(np.asarray(serial.faces), np.asarray(threaded.faces))
     assert serial.field_data["evaluations"][0] == threaded.field_data["evaluations"][0]
+
+
+def test_refine_tolerances_shrink_with_the_voxel(monkeypatch):
+    """Past REFINE_FULL_N voxels across the solid the stop tolerances beside ties fall as h (the distance
+    left as h^2); the other vertices keep theirs."""
+    from spatial.cells.lattice import make_lattice
+    from spatial.meshing import cells
+    from spatial.meshing.arrays import REFINE_ACCEPT, REFINE_FULL_N, REFINE_TOL, refine_scale
+    from spatial.meshing.boundary import _boundary_cells_2h
+
+    assert refine_scale(sphere(1.0), 2.0 / 64) == 1.0
+    assert refine_scale(sphere(1.0), 2.0 / 512) == pytest.approx(REFINE_FULL_N / 512)
+    assert refine_scale(halfspace((0, 0, 1)), 1e-6) == 1.0        # unbounded: as before
+    seen = []
+    real = cells._refine_on_edges
+
+    def spy(*args, **kwargs):
+        seen.append(kwargs)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(cells, "_refine_on_edges", spy)
+    # a patch of a large sphere (16 voxels across a region 1/200 of the solid's size), meshed with the
+    # sphere itself (`mesh` would clip it to the region, whose size would then count)
+    big = sphere(100.0)
+    lattice = make_lattice(big, bounds=((99.5, -0.5, -0.5), (100.5, 0.5, 0.5)), resolution=16)
+    found = _boundary_cells_2h(lattice, False)
+    cells.mesh_cells(big, lattice.origin, lattice.voxel_size, found["cells"], cell_size=2, features=False)
+    s = REFINE_FULL_N * lattice.voxel_size / 200.0
+    assert s < 0.05
+    assert len(seen) == 2 and "tol" not in seen[1] and "accept" not in seen[1]
+    assert seen[0]["tol"] == pytest.approx(REFINE_TOL * s) and seen[0]["accept"] == pytest.approx(REFINE_ACCEPT * s)

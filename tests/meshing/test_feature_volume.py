@@ -1,7 +1,7 @@
 """The feature mesh's volume error on the benchmark part falls as h^2 (the default mesh).
 
 ``|e(N)| <= C h^2`` with ``C`` fixed from N=64; `bench/bench_feature_volume.py` runs
-64..512 and splits the error into the chord errors of the curved faces.
+64..1024 and splits the error into the chord errors of the curved faces.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import spatial
-from implicit import box, cylinder, sphere
+from implicit import box, capsule, cylinder, sphere, torus
 from spatial.meshing import feature_edges, mesh
 
 from meshcheck import min_area, signed_volume, topology, vertex_manifold
@@ -112,6 +112,25 @@ def test_benchmark_part_volume_and_corners():
     assert m.n_cells < 1.1 * plain.n_cells
 
 
+@pytest.mark.parametrize("n", [12, 16, 24, 32])
+def test_smooth_parts_get_no_feature_vertex(n):
+    """A smooth face that turns a lot across a coarse voxel is no edge (its QEF reads as two planes)."""
+    for solid in (torus(1.0, 0.25), torus(1.0, 0.35), sphere(1.0), capsule((0, 0, -0.5), (0, 0, 0.5), 0.4)):
+        m = mesh(solid, resolution=n)
+        assert int((m.point_data["feature_rank"] > 0).sum()) == 0, (solid, n)
+        assert m.n_cells == mesh(solid, resolution=n, features=False).n_cells
+
+
+@pytest.mark.parametrize("n", [16, 24, 32])
+def test_coarse_benchmark_part_keeps_every_edge(n):
+    """Its 15 curves (6 box faces with a drill, 6 with the sphere, 3 drill pairs) and the 8 drill corners."""
+    fe = feature_edges(mesh(BENCH, resolution=n))
+    labels = set(fe.labels)
+    assert len(labels) == 15 and fe.corners.shape == (8, 3)
+    assert sum(("sphere" in a) != ("sphere" in b) for a, b in labels) == 6
+    assert sum(a.startswith("cylinder") and b.startswith("cylinder") for a, b in labels) == 3
+
+
 def test_deterministic_and_default_on():
     a = mesh(BENCH, resolution=32, features=True)
     b = mesh(BENCH, resolution=32, features=True)
@@ -208,3 +227,24 @@ def test_no_unused_vertices():
     lo, hi = s.bounds
     m = mesh(s, resolution=16, bounds=(lo - 0.1, hi + 0.1), features=True)
     assert np.unique(m.faces.reshape(-1, 4)[:, 1:]).size == m.n_points
+
+
+def test_mesh_cells_default_is_the_feature_mesh():
+    """`mesh_cells` rebuilds features as `mesh` does, except for meshes whose parts are fused by edge ids."""
+    from spatial.cells.lattice import make_lattice
+    from spatial.meshing.boundary import _boundary_cells_2h
+    from spatial.meshing.cells import mesh_cells
+
+    solid = box(1.0) - cylinder(0.25, 2.0)
+    lattice = make_lattice(solid, resolution=16)
+    cells = _boundary_cells_2h(lattice, False)["cells"]
+    args = (solid, lattice.origin, lattice.voxel_size, cells)
+    sharp = mesh_cells(*args, cell_size=2)
+    assert int((sharp.point_data["feature_rank"] == 3).sum()) == 8
+    assert np.array_equal(sharp.faces, mesh_cells(*args, cell_size=2, features=True).faces)
+    ids = mesh_cells(*args, cell_size=2, edge_ids=True)
+    assert "feature_rank" not in ids.point_data and "edge_id" in ids.point_data
+    with pytest.raises(ValueError, match="edge_ids"):
+        mesh_cells(*args, cell_size=2, edge_ids=True, features=True)
+    with pytest.raises(TypeError, match="features"):
+        mesh_cells(*args, cell_size=2, features="yes")

@@ -71,7 +71,7 @@ PINNED = {
     "plate with holes N=48": ("82827a2865586273", 5804),
     "smooth blobs N=36": ("f8be51919acac7d5", 5892),
     "benchmark part N=40 features": ("c3330a34c86d8230", 21700),
-    "plate with holes N=48 features": ("6a51e886d2edcbe5", 6052),
+    "plate with holes N=48 features": ("a95dc2cf7e7449d7", 5944),
 }
 
 
