@@ -334,6 +334,12 @@ def check_dense_memory(shape, *, bytes_per_voxel, what, max_bytes=None):
 #: `OccupancyGrid.to_mesh`), so that no module of this room imports upward.
 _PROVIDED: dict = {}
 
+#: Where each name is registered.  `import spatial` loads its rooms lazily, so a
+#: user may hold an octree before anything imported its provider: the provider
+#: is then loaded by name when a method first needs it.  The dependency stays
+#: one-way in the code (this room names no module above it in an import).
+_PROVIDERS = {"OccupancyGrid": "spatial.cells.grid", "mesh_cells": "spatial.meshing", "grid_mesh": "spatial.meshing"}
+
 
 def provide(name: str, obj):
     """Register `obj` under `name` for the cells' methods; returns `obj`."""
@@ -342,9 +348,12 @@ def provide(name: str, obj):
 
 
 def provided(name: str):
-    """The object registered under `name`, or ImportError saying who provides it."""
+    """The object registered under `name`, its provider loaded on first need."""
+    if name not in _PROVIDED and name in _PROVIDERS:
+        import importlib
+
+        importlib.import_module(_PROVIDERS[name])
     try:
         return _PROVIDED[name]
     except KeyError:
-        raise ImportError(f"{name!r} is provided by a room above spatial.cells; import spatial "
-                          "(or spatial.meshing) first") from None
+        raise ImportError(f"{name!r} is provided by a room above spatial.cells, and none registered it") from None

@@ -223,7 +223,6 @@ class Octree:
 
         Examples
         --------
-        >>> import spatial.meshing  # the meshers, which this method calls
         >>> from implicit import box
         >>> m = Octree.from_solid(box(1.0), resolution=8).to_mesh()
         >>> int((m.point_data["feature_rank"] == 3).sum())

@@ -8,7 +8,6 @@ from hypothesis import given, settings
 
 from implicit import box, halfspace, sphere, torus
 from implicit.solid import Solid
-import spatial.meshing  # noqa: F401  (provides the mesher of Octree.to_mesh: `import spatial` is lazy)
 from spatial import BOUNDARY, EMPTY, FULL, OccupancyGrid, Octree
 
 from solid_strategies import solids
@@ -155,3 +154,22 @@ def test_to_mesh_rebuilds_sharp_features_by_default():
     assert np.abs(closest - corners).max() < 2e-3 * sharp.field_data["voxel_size"][0]
     assert abs(sharp.volume - 1.0) < 1e-3 and abs(plain.volume - 1.0) > 0.05   # 5.0e-4 against 8.4e-2
     assert "feature_rank" not in plain.point_data
+
+
+def test_cells_methods_load_their_providers_in_a_fresh_interpreter():
+    # `import spatial` is lazy: an octree or grid made before anything imported the meshing room
+    # must still mesh (its mesher is loaded on first need), and a grid must come from an octree
+    import subprocess
+    import sys
+
+    script = (
+        "from implicit import box\n"
+        "from spatial.cells.octree import Octree\n"
+        "o = Octree.from_solid(box(1.0), resolution=8)\n"
+        "m = o.to_mesh()\n"
+        "g = o.to_grid()\n"
+        "print(m.n_cells > 0, int((m.point_data['feature_rank'] == 3).sum()), g.to_mesh().n_cells > 0)\n"
+    )
+    res = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert res.stdout.split() == ["True", "8", "True"]
