@@ -104,7 +104,7 @@ class LostFeature:
     between: str
     count: int = 1
     resolution: float = 0.0
-    #: Candidates beyond the budget, not examined (`examine`), and the voxel about which examines them all.
+    #: Candidates beyond the budget, not examined (`examine`), and the voxel whose budget examines them all.
     unexamined: int = 0
     examine_voxel: float = 0.0
 
@@ -169,9 +169,7 @@ def lost_feature(solid, origin, h, cells, centres, *, uniform=None, uniform_pare
         return None
     pts, side, depth = speck_candidates(solid, origin, h, cells, centres, uniform=uniform,
                                         uniform_parents=uniform_parents)
-    if budget is None:
-        budget = candidate_budget(cells.shape[0])
-    return examine(solid, pts, side, depth, h, budget=budget, name_by=name_by)
+    return examine(solid, pts, side, depth, h, cells=cells.shape[0], budget=budget, name_by=name_by)
 
 
 def candidate_budget(boundary_cells):
@@ -217,13 +215,14 @@ def speck_candidates(solid, origin, h, cells, centres, *, uniform=None, uniform_
     return origin + (2 * cells[cand].astype(np.float64) + 1) * h, side, np.abs(centres[cand])
 
 
-def examine(solid, points, side, depth, h, *, budget, name_by=None):
+def examine(solid, points, side, depth, h, *, cells, budget=None, name_by=None):
     """Measure the candidates of `speck_candidates` (steps 2-3 of the notes): the thinnest lost, or None.
 
-    The `budget` shallowest are measured (ties broken by position, so that candidates gathered in any
-    order give the same answer); the rest are counted in ``unexamined``, with ``examine_voxel`` the
-    voxel about which the budget covers them all (a voxel finer by the square root of their ratio,
-    the budget following the surface).  When none measured is lost but some were left out, a
+    `cells` is the number of BOUNDARY cells of edge 2h the candidates come from; the `budget`
+    (default `candidate_budget` of them) shallowest are measured, ties broken by position, so that
+    candidates gathered in any order give the same answer.  The rest are counted in ``unexamined``,
+    with ``examine_voxel`` the voxel whose shell of cells (growing as ``1 / h**2``) buys a budget for
+    them all, when their number stays.  When none measured is lost but some were left out, a
     `LostFeature` of kind ``'unexamined'`` says so.
     """
     points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
@@ -231,14 +230,14 @@ def examine(solid, points, side, depth, h, *, budget, name_by=None):
     depth = np.asarray(depth, dtype=np.float64)
     if points.shape[0] == 0:
         return None
-    budget = max(1, int(budget))
+    budget = max(1, int(candidate_budget(cells) if budget is None else budget))
     order = np.lexsort((points[:, 2], points[:, 1], points[:, 0], depth))
     over = max(0, order.size - budget)
     order = order[:budget]
     feat = _measure(solid, points[order], side[order], h, _lipschitz(solid), solid if name_by is None else name_by)
     if not over:
         return feat
-    finer = h * math.sqrt(budget / (budget + over))
+    finer = h * min(1.0, math.sqrt(max(int(cells), 1) / (order.size + over) / CELLS_PER_CANDIDATE))
     if feat is None:
         return LostFeature("unexamined", math.nan, math.nan, tuple(float(v) for v in points[order[-1]]), "", 0,
                            0.0, over, finer)
