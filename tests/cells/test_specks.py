@@ -15,6 +15,9 @@ from spatial.cells.lattice import make_lattice
 from spatial.cells.specks import lost_feature
 from spatial.meshing.boundary import boundary_cells_2h
 
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+from speckparts import many_specks  # noqa: E402
+
 
 def _messages(solid, **kw):
     with warnings.catch_warnings(record=True) as caught:
@@ -115,23 +118,13 @@ def test_detection_costs_few_evaluations(seed):
     assert sum(calls) <= 4 * 17 ** 3
 
 
-def _many_specks(h, n=100):
-    """A box and `n` spheres of radius 0.3 h scattered a few voxels apart beside it."""
-    rng = np.random.default_rng(3)
-    side = int(np.ceil(np.sqrt(n)))
-    g = (np.stack(np.meshgrid(np.arange(side), np.arange(side), indexing="ij"), -1).reshape(-1, 2)[:n] * 5 * h
-         - 2.5 * h * (side - 1))
-    at = np.column_stack([g + rng.uniform(-0.5 * h, 0.5 * h, g.shape), 1.0 + rng.uniform(-0.5 * h, 0.5 * h, n)])
-    return I.union(I.box(1.0), *[I.sphere(0.3 * h, tuple(p)) for p in at])
-
-
 def test_specks_beyond_the_budget_are_counted_and_said():
     # 100 specks beside a box of 730 BOUNDARY cells: the budget (48) measures the shallowest 48, all lost,
     # and counts the other 52; a budget of 100 measures them all
     from spatial.cells import specks
 
     h = 0.1
-    part = _many_specks(h)
+    part = many_specks(h)
     lat = make_lattice(part, voxel_size=h)
     found = boundary_cells_2h(lat, False)
     m = found["cells"].shape[0]
@@ -158,7 +151,7 @@ def test_a_budget_that_follows_the_surface_examines_them_all(monkeypatch):
     from spatial.cells import specks
 
     h = 0.1
-    part = _many_specks(h, n=60)
+    part = many_specks(h, n=60)
     lat = make_lattice(part, voxel_size=h)
     found = boundary_cells_2h(lat, False)
     monkeypatch.setattr(specks, "CELLS_PER_CANDIDATE", 4)
@@ -191,7 +184,7 @@ def test_sorted_fallback_gives_the_compiled_candidates(which, monkeypatch):
         solid, h = I.box(1.0) | (I.sphere(1, (-0.96, 0.01, 2.02)) & I.sphere(1, (0.96, 0.01, 2.02))
                                  & I.sphere(1, (0.0, 0.97, 2.02))), 0.1
     elif which == "many":
-        solid, h = _many_specks(0.1, n=20), 0.1
+        solid, h = many_specks(0.1, n=20), 0.1
     else:
         c = random_case(which, resolutions=(16, 48), max_depth=5)
         solid, h, bounds = c.solid, c.voxel_size, c.bounds
