@@ -218,12 +218,15 @@ def speck_candidates(solid, origin, h, cells, centres, *, uniform=None, uniform_
 def examine(solid, points, side, depth, h, *, cells, budget=None, name_by=None):
     """Measure the candidates of `speck_candidates` (steps 2-3 of the notes): the thinnest lost, or None.
 
+    Candidates side by side (neighbouring cells) with the same value (to float32, the ties of the
+    search) are one plateau of the field -- a flat face lying on the cells' centres, a fillet's flat
+    field -- and one feature at most: the first of each plateau is measured before any second one.
     `cells` is the number of BOUNDARY cells of edge 2h the candidates come from; the `budget`
-    (default `candidate_budget` of them) shallowest are measured, ties broken by position, so that
-    candidates gathered in any order give the same answer.  The rest are counted in ``unexamined``,
-    with ``examine_voxel`` the voxel whose shell of cells (growing as ``1 / h**2``) buys a budget for
-    them all, when their number stays.  When none measured is lost but some were left out, a
-    `LostFeature` of kind ``'unexamined'`` says so.
+    (default `candidate_budget` of them) are measured in that order, the shallowest first, ties broken
+    by position, so that candidates gathered in any order give the same answer.  The plateaus with no
+    candidate measured are counted in ``unexamined``, with ``examine_voxel`` the voxel whose shell of
+    cells (growing as ``1 / h**2``) buys a budget for them all, when their number stays.  When none
+    measured is lost but some plateaus were left out, a `LostFeature` of kind ``'unexamined'`` says so.
     """
     points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     side = np.asarray(side, dtype=np.int8)
@@ -232,16 +235,50 @@ def examine(solid, points, side, depth, h, *, cells, budget=None, name_by=None):
         return None
     budget = max(1, int(candidate_budget(cells) if budget is None else budget))
     order = np.lexsort((points[:, 2], points[:, 1], points[:, 0], depth))
-    over = max(0, order.size - budget)
+    plateau = _plateaus(points[order], side[order], depth[order], h)
+    # the plateaus' first members first, then their second ones...: each in the order above
+    resort = np.lexsort((np.arange(order.size), _rank_within(plateau)))
+    order, plateau = order[resort], plateau[resort]
+    over = int(np.unique(plateau).size - np.unique(plateau[:budget]).size)
     order = order[:budget]
     feat = _measure(solid, points[order], side[order], h, _lipschitz(solid), solid if name_by is None else name_by)
     if not over:
         return feat
-    finer = h * min(1.0, math.sqrt(max(int(cells), 1) / (order.size + over) / CELLS_PER_CANDIDATE))
+    plateaus = int(np.unique(plateau).size)
+    finer = h * min(1.0, math.sqrt(max(int(cells), 1) / plateaus / CELLS_PER_CANDIDATE))
     if feat is None:
         return LostFeature("unexamined", math.nan, math.nan, tuple(float(v) for v in points[order[-1]]), "", 0,
                            0.0, over, finer)
     return replace(feat, unexamined=over, examine_voxel=finer)
+
+
+def _plateaus(points, side, depth, h):
+    """Label of each candidate's plateau: the candidates joined through neighbouring cells (centres
+    ``2h`` apart at most along every axis) of the same side and float32 value."""
+    n = points.shape[0]
+    if n < 2:
+        return np.zeros(n, np.int64)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(points).query_pairs(2 * h * (1 + 1e-6), p=np.inf, output_type="ndarray")
+    value = (side * depth).astype(np.float32)
+    same = value[pairs[:, 0]] == value[pairs[:, 1]]
+    pairs = pairs[same]
+    graph = coo_matrix((np.ones(pairs.shape[0], np.int8), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    return connected_components(graph, directed=False)[1].astype(np.int64)
+
+
+def _rank_within(labels):
+    """Each element's rank among the elements of its label, in the array's order."""
+    order = np.argsort(labels, kind="stable")
+    sorted_labels = labels[order]
+    starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]])
+    counts = np.diff(np.r_[starts, labels.size])
+    rank = np.empty(labels.size, np.int64)
+    rank[order] = np.arange(labels.size) - np.repeat(starts, counts)
+    return rank
 
 
 def _candidates(solid, origin, h, cells, centres, uniform, uniform_parents):
