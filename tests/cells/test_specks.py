@@ -205,3 +205,24 @@ def test_sorted_fallback_gives_the_compiled_candidates(which, monkeypatch):
     np.testing.assert_array_equal(dense[0][a], sparse[0][b])
     np.testing.assert_array_equal(dense[1][a], sparse[1][b])
     assert lost_feature(*args[:5], uniform=args[5], uniform_parents=args[6]) == feat
+
+
+def test_a_plateau_of_candidates_is_one_and_only_unmeasured_plateaus_are_counted():
+    # 100 candidates side by side (cells 2h apart) of one value: one plateau, measured first, nothing
+    # left out; the same candidates at 100 values are 100 plateaus, 52 of them beyond the budget
+    from spatial.cells import specks
+
+    h = 0.1
+    g = np.stack(np.meshgrid(np.arange(10), np.arange(10), indexing="ij"), -1).reshape(-1, 2) * 2 * h
+    pts = np.column_stack([g, np.full(100, 3.0)])
+    side = -np.ones(100, np.int8)
+    assert specks._plateaus(pts, side, np.zeros(100), h).max() == 0
+    assert specks.examine(I.box(1.0), pts, side, np.zeros(100), h, cells=100) is None
+    depth = np.linspace(0, 0.01, 100)
+    assert np.unique(specks._plateaus(pts, side, depth, h)).size == 100
+    u = specks.examine(I.box(1.0), pts, side, depth, h, cells=100)
+    assert (u.kind, u.unexamined) == ("unexamined", 52)
+    # two plateaus: the second one's first member comes before the first one's second
+    lab = np.array([0, 0, 0, 1, 1])
+    np.testing.assert_array_equal(specks._rank_within(lab), [0, 1, 2, 0, 1])
+    np.testing.assert_array_equal(specks._rank_within(np.array([1, 0, 1, 0])), [0, 0, 1, 1])
