@@ -253,19 +253,31 @@ def examine(solid, points, side, depth, h, *, cells, budget=None, name_by=None):
 
 
 def _plateaus(points, side, depth, h):
-    """Label of each candidate's plateau: the candidates joined through neighbouring cells (centres
-    ``2h`` apart at most along every axis) of the same side and float32 value."""
+    """Label of each candidate's plateau: the candidates joined through neighbouring cells (of the 26
+    about each) of the same side and float32 value."""
     n = points.shape[0]
     if n < 2:
         return np.zeros(n, np.int64)
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
 
-    pairs = cKDTree(points).query_pairs(2 * h * (1 + 1e-6), p=np.inf, output_type="ndarray")
+    # the cells of edge 2h, from their centres, as sorted linear keys of their box (one cell of margin)
+    c = np.rint((points - points.min(axis=0)) / (2 * h)).astype(np.int64) + 1
+    span = c.max(axis=0) + 2
+    key = (c[:, 0] * span[1] + c[:, 1]) * span[2] + c[:, 2]
+    order = np.argsort(key, kind="stable")
+    skey = key[order]
     value = (side * depth).astype(np.float32)
-    same = value[pairs[:, 0]] == value[pairs[:, 1]]
-    pairs = pairs[same]
+    ends = []
+    # half the neighbours: each pair once
+    for d in (o for o in _offsets() if tuple(o) > (0, 0, 0)):
+        k = key + (d[0] * span[1] + d[1]) * span[2] + d[2]
+        pos = np.minimum(np.searchsorted(skey, k), n - 1)
+        hit = np.flatnonzero(skey[pos] == k)
+        other = order[pos[hit]]
+        same = value[hit] == value[other]
+        ends.append(np.stack([hit[same], other[same]], axis=1))
+    pairs = np.concatenate(ends)
     graph = coo_matrix((np.ones(pairs.shape[0], np.int8), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     return connected_components(graph, directed=False)[1].astype(np.int64)
 
