@@ -141,7 +141,7 @@ def test_specks_beyond_the_budget_are_counted_and_said():
     perm = np.random.default_rng(0).permutation(100)
     assert specks.examine(lat.solid, pts[perm], side[perm], depth[perm], h, cells=m) == f
     # the mesh says so (the tree knows the spheres' walls, so the overflow is said on its own line)
-    m1, said = _messages(part, voxel_size=h)
+    _, said = _messages(part, voxel_size=h)
     told = [s for s in said if "not examined" in s]
     assert len(told) == 1 and "52 candidates for a feature the lattice may lose not examined" in told[0], said
     assert f"voxel_size={f.examine_voxel:.4g} examines them" in told[0]

@@ -79,6 +79,7 @@ def test_thin_wall_measured_on_the_field_is_announced_on_the_cluster(client):
 
 def test_specks_beyond_the_budget_are_counted_on_the_cluster(client, tmp_path):
     from speckparts import many_specks
+
     from spatial.distributed.plan import plan_bricks
 
     part = many_specks(0.1)
