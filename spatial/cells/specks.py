@@ -18,16 +18,27 @@ side.  `lost_feature` finds them at surface cost:
    running only (the six faces rule out nearly every cell of a smooth
    surface), no evaluation but for a neighbour of unknown sign, inside a
    uniform cell larger than ``4h``;
-2. around each candidate (the `MAX_CANDIDATES` shallowest) the field is
-   sampled on a grid `FINER` times finer than the lattice over ``4h`` a
-   side; the feature's thickness is twice the largest distance from a fine
+2. a candidate deeper than ``L h`` on its side holds a ball of material (or of
+   gap) a voxel in radius and is dropped (never lost: see `speck_candidates`);
+   around each other one -- the shallowest first, as many as the budget
+   allows (`candidate_budget`: `MIN_CANDIDATES`, and one more per
+   `CELLS_PER_CANDIDATE` BOUNDARY cells, so that the cost follows the
+   surface) -- the field is sampled on a grid `FINER` times finer than the
+   lattice over ``4h`` a side; the feature's thickness is twice the largest distance from a fine
    sample inside it to one outside (a Euclidean distance transform: the
    field's values need not be distances) and its extent the span of its
    fine samples inside;
 3. a feature thinner than two voxels (the rule of the walls) may be lost:
    it is named by the facets nearest its deepest point
    (`implicit.facets.FacetField`) with the voxel that keeps it, a quarter of
-   its thickness (`WALL_VOXELS`).
+   its thickness (`WALL_VOXELS`); candidates beyond the budget are counted,
+   and the warning says how many were not examined and about which voxel
+   examines them all.
+
+The search (step 1) and the measurement (steps 2-3) are separate
+(`speck_candidates`, `examine`) so that the cluster mesher finds the
+candidates brick by brick on its workers and measures them together on the
+client: the same candidates, budget and warning as one process.
 
 A candidate whose fine samples hold no material (a feature thinner than a
 fine step, or none) is sampled once more `FINER` times finer about its
@@ -52,16 +63,22 @@ leave two gaps in the material that neither the tree nor the walls know:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["LostFeature", "lost_feature", "FINER", "MAX_CANDIDATES"]
+__all__ = ["LostFeature", "lost_feature", "speck_candidates", "examine", "candidate_budget", "warn_lost",
+           "warn_feature",
+           "FINER", "MIN_CANDIDATES", "CELLS_PER_CANDIDATE"]
 
 #: Fine samples per voxel around a candidate.
 FINER = 4
-#: Candidates sampled finely (the shallowest; a lost feature is rarely one of many far apart).
-MAX_CANDIDATES = 48
+#: Candidates sampled finely whatever the surface (the shallowest first).
+MIN_CANDIDATES = 48
+#: One more candidate examined per this many BOUNDARY cells of edge 2h: a candidate's ``17**3`` fine
+#: samples cost about as much as meshing 15-25 cells, so the examination stays within a few % of the
+#: mesh (benchmark part, bench/bench_specks.py).
+CELLS_PER_CANDIDATE = 512
 #: A feature thinner than this many voxels may be lost (the walls' rule: coarser than half of it).
 LOST_VOXELS = 2.0
 #: Largest box of cells of edge 2h around the shell whose known values are held in a grid (else
@@ -87,9 +104,14 @@ class LostFeature:
     between: str
     count: int = 1
     resolution: float = 0.0
+    #: Candidates beyond the budget, not examined (`examine`), and the voxel whose budget examines them all.
+    unexamined: int = 0
+    examine_voxel: float = 0.0
 
     def describe(self) -> str:
         """One phrase naming the feature: ``'a thin piece of material 0.02 thick, 0.05 across, bounded by ... near (x, y, z)'``."""
+        if self.kind == "unexamined":
+            return f"{self.unexamined} candidates for a feature the lattice may lose not examined"
         where = ", ".join(f"{v:.4g}" for v in self.at)
         what = "a thin piece of material" if self.kind == "material" else "a thin gap"
         who = f" bounded by {self.between}" if self.between else ""
@@ -101,7 +123,8 @@ class LostFeature:
         return self.thickness / voxels
 
 
-def lost_feature(solid, origin, h, cells, centres, *, uniform=None, uniform_parents=None, name_by=None):
+def lost_feature(solid, origin, h, cells, centres, *, uniform=None, uniform_parents=None, name_by=None,
+                 budget=None):
     """The thinnest feature under two voxels the lattice may lose (see the module notes), or None.
 
     Parameters
@@ -120,27 +143,154 @@ def lost_feature(solid, origin, h, cells, centres, *, uniform=None, uniform_pare
         The uniform cells of edge ``2h`` and ``4h`` found around them, with their signs.
     name_by : Solid, optional
         The solid whose facets name the feature (default `solid`).
+    budget : int, optional
+        Candidates examined at most (default `candidate_budget` of the cells).
 
     Returns
     -------
     LostFeature or None
+        None when no candidate examined is lost and none was left unexamined; a feature of kind
+        ``'unexamined'`` when none examined is lost but the budget left some out.
+
+    Examples
+    --------
+    >>> from implicit import box, sphere
+    >>> from spatial.cells.lattice import make_lattice
+    >>> from spatial.meshing.boundary import boundary_cells_2h
+    >>> lat = make_lattice(box(1.0) | sphere(0.03, (0.0, 0.0, 0.8)), voxel_size=0.1)
+    >>> found = boundary_cells_2h(lat, False)
+    >>> lost_feature(lat.solid, lat.origin, 0.1, found["cells"], found["centres"], uniform=found["uniform"],
+    ...              uniform_parents=found["uniform_parents"]).kind
+    'material'
     """
     cells = np.asarray(cells)
     centres = np.asarray(centres, dtype=np.float64)
     if cells.shape[0] == 0 or centres.shape[0] != cells.shape[0]:
         return None
-    origin = np.asarray(origin, dtype=np.float64)
+    pts, side, depth = speck_candidates(solid, origin, h, cells, centres, uniform=uniform,
+                                        uniform_parents=uniform_parents)
+    return examine(solid, pts, side, depth, h, cells=cells.shape[0], budget=budget, name_by=name_by)
+
+
+def candidate_budget(boundary_cells):
+    """Candidates examined for a shell of `boundary_cells` BOUNDARY cells of edge 2h: `MIN_CANDIDATES`,
+    plus one per `CELLS_PER_CANDIDATE` cells (the examination's cost follows the mesh's)."""
+    return max(MIN_CANDIDATES, int(boundary_cells) // CELLS_PER_CANDIDATE)
+
+
+def _lipschitz(solid):
     lip = float(getattr(solid, "lipschitz", 1.0) or 1.0)
-    if not (math.isfinite(lip) and lip > 0):
-        lip = 1.0
+    return lip if math.isfinite(lip) and lip > 0 else 1.0
+
+
+def speck_candidates(solid, origin, h, cells, centres, *, uniform=None, uniform_parents=None):
+    """The places a feature may be lost: the BOUNDARY cells of edge 2h whose centre value is a local
+    minimum (side +1, material) or maximum (side -1, gap) of its 26 neighbours' (step 1 of the notes).
+
+    A candidate whose centre lies deeper than ``L h`` on its side (``L`` the Lipschitz constant) is
+    dropped: a ball of radius ``h`` about it is all material (or all gap), so its measured thickness
+    is at least ``2h`` less a fine step, never lost.  A neighbour of `cells` outside them and the
+    uniform cells given is sampled, so a part of the lattice (a brick) gives the candidates it holds.
+
+    Returns
+    -------
+    points : (k, 3) float
+        The candidates' cell centres.
+    side : (k,) int8
+    depth : (k,) float
+        ``|f|`` at the centres (the shallowest are examined first).
+    """
+    cells = np.asarray(cells)
+    centres = np.asarray(centres, dtype=np.float64)
+    none = np.zeros((0, 3)), np.zeros(0, np.int8), np.zeros(0)
+    if cells.shape[0] == 0 or centres.shape[0] != cells.shape[0]:
+        return none
+    origin = np.asarray(origin, dtype=np.float64)
     cand, side = _candidates(solid, origin, h, cells, centres, uniform, uniform_parents)
     if cand.size == 0:
+        return none
+    v = centres[cand]
+    keep = side * v >= -_lipschitz(solid) * h * (1 + 1e-9)
+    cand, side = cand[keep], side[keep]
+    return origin + (2 * cells[cand].astype(np.float64) + 1) * h, side, np.abs(centres[cand])
+
+
+def examine(solid, points, side, depth, h, *, cells, budget=None, name_by=None):
+    """Measure the candidates of `speck_candidates` (steps 2-3 of the notes): the thinnest lost, or None.
+
+    Candidates side by side (neighbouring cells) with the same value (to float32, the ties of the
+    search) are one plateau of the field -- a flat face lying on the cells' centres, a fillet's flat
+    field -- and one feature at most: the first of each plateau is measured before any second one.
+    `cells` is the number of BOUNDARY cells of edge 2h the candidates come from; the `budget`
+    (default `candidate_budget` of them) are measured in that order, the shallowest first, ties broken
+    by position, so that candidates gathered in any order give the same answer.  The plateaus with no
+    candidate measured are counted in ``unexamined``, with ``examine_voxel`` the voxel whose shell of
+    cells (growing as ``1 / h**2``) buys a budget for them all, when their number stays.  When none
+    measured is lost but some plateaus were left out, a `LostFeature` of kind ``'unexamined'`` says so.
+    """
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    side = np.asarray(side, dtype=np.int8)
+    depth = np.asarray(depth, dtype=np.float64)
+    if points.shape[0] == 0:
         return None
-    # the shallowest first: a feature the lattice loses lies closest to the level
-    order = np.argsort(np.abs(centres[cand]), kind="stable")[:MAX_CANDIDATES]
-    cand, side = cand[order], side[order]
-    centre_pts = origin + (2 * cells[cand].astype(np.float64) + 1) * h
-    return _measure(solid, centre_pts, side, h, lip, solid if name_by is None else name_by)
+    budget = max(1, int(candidate_budget(cells) if budget is None else budget))
+    order = np.lexsort((points[:, 2], points[:, 1], points[:, 0], depth))
+    plateau = _plateaus(points[order], side[order], depth[order], h)
+    # the plateaus' first members first, then their second ones...: each in the order above
+    resort = np.lexsort((np.arange(order.size), _rank_within(plateau)))
+    order, plateau = order[resort], plateau[resort]
+    over = int(np.unique(plateau).size - np.unique(plateau[:budget]).size)
+    order = order[:budget]
+    feat = _measure(solid, points[order], side[order], h, _lipschitz(solid), solid if name_by is None else name_by)
+    if not over:
+        return feat
+    plateaus = int(np.unique(plateau).size)
+    finer = h * min(1.0, math.sqrt(max(int(cells), 1) / plateaus / CELLS_PER_CANDIDATE))
+    if feat is None:
+        return LostFeature("unexamined", math.nan, math.nan, tuple(float(v) for v in points[order[-1]]), "", 0,
+                           0.0, over, finer)
+    return replace(feat, unexamined=over, examine_voxel=finer)
+
+
+def _plateaus(points, side, depth, h):
+    """Label of each candidate's plateau: the candidates joined through neighbouring cells (of the 26
+    about each) of the same side and float32 value."""
+    n = points.shape[0]
+    if n < 2:
+        return np.zeros(n, np.int64)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    # the cells of edge 2h, from their centres, as sorted linear keys of their box (one cell of margin)
+    c = np.rint((points - points.min(axis=0)) / (2 * h)).astype(np.int64) + 1
+    span = c.max(axis=0) + 2
+    key = (c[:, 0] * span[1] + c[:, 1]) * span[2] + c[:, 2]
+    order = np.argsort(key, kind="stable")
+    skey = key[order]
+    value = (side * depth).astype(np.float32)
+    ends = []
+    # half the neighbours: each pair once
+    for d in (o for o in _offsets() if tuple(o) > (0, 0, 0)):
+        k = key + (d[0] * span[1] + d[1]) * span[2] + d[2]
+        pos = np.minimum(np.searchsorted(skey, k), n - 1)
+        hit = np.flatnonzero(skey[pos] == k)
+        other = order[pos[hit]]
+        same = value[hit] == value[other]
+        ends.append(np.stack([hit[same], other[same]], axis=1))
+    pairs = np.concatenate(ends)
+    graph = coo_matrix((np.ones(pairs.shape[0], np.int8), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    return connected_components(graph, directed=False)[1].astype(np.int64)
+
+
+def _rank_within(labels):
+    """Each element's rank among the elements of its label, in the array's order."""
+    order = np.argsort(labels, kind="stable")
+    sorted_labels = labels[order]
+    starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]])
+    counts = np.diff(np.r_[starts, labels.size])
+    rank = np.empty(labels.size, np.int64)
+    rank[order] = np.arange(labels.size) - np.repeat(starts, counts)
+    return rank
 
 
 def _candidates(solid, origin, h, cells, centres, uniform, uniform_parents):
@@ -363,13 +513,32 @@ def warn_lost(solid, origin, h, found, announced=None, *, name_by=None, stacklev
     tree when `solid` is it clipped to the bounds).  Returns the feature or
     None.
     """
-    import warnings
-
     feat = lost_feature(solid, origin, h, found["cells"], found["centres"], uniform=found.get("uniform"),
                         uniform_parents=found.get("uniform_parents"), name_by=name_by)
-    # a feature no thinner, to the measurement's resolution, than the wall announced: told already
-    if feat is None or (announced is not None and (feat.thickness + feat.resolution) / 4 >= announced):
+    return warn_feature(feat, h, announced, stacklevel=stacklevel + 1)
+
+
+def warn_feature(feat, h, announced=None, *, stacklevel=2):
+    """The one line of `warn_lost` for a feature `lost_feature` or `examine` returned (None: nothing said);
+    returns the feature warned about, or None."""
+    import warnings
+
+    if feat is None:
         return None
+    more = ""
+    if feat.unexamined:
+        more = f"; {feat.unexamined} more candidates not examined; voxel_size={feat.examine_voxel:.4g} examines them"
+    if feat.kind == "unexamined":
+        warnings.warn(f"mesh: {feat.describe()}; voxel_size={feat.examine_voxel:.4g} examines them",
+                      RuntimeWarning, stacklevel=stacklevel + 1)
+        return feat
+    # a feature no thinner, to the measurement's resolution, than the wall announced: told already
+    if announced is not None and (feat.thickness + feat.resolution) / 4 >= announced:
+        if not feat.unexamined:
+            return None
+        warnings.warn(f"mesh: {replace(feat, kind='unexamined').describe()}; voxel_size={feat.examine_voxel:.4g} "
+                      "examines them", RuntimeWarning, stacklevel=stacklevel + 1)
+        return feat
     warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half {feat.describe()}; the feature may be lost; "
-                  f"voxel_size={feat.keep_voxel():.4g} keeps it", RuntimeWarning, stacklevel=stacklevel + 1)
+                  f"voxel_size={feat.keep_voxel():.4g} keeps it{more}", RuntimeWarning, stacklevel=stacklevel + 1)
     return feat

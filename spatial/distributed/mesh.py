@@ -17,15 +17,16 @@ import warnings
 
 import numpy as np
 
-from ..cells.thickness import WALL_VOXELS, default_voxel_size, thinnest_wall
+from ..cells.thickness import default_voxel_size
 from ..meshing import DEFAULT_BLOCK, empty_mesh
+from ..meshing.boundary import _warn_thin
 from ..meshing.features import sharp_polydata
 from .cluster import check_client, connect
 from .parts import PartitionedMesh, merge_parts, write_pvtp
 from .plan import DEFAULT_BRICK, plan_bricks
 from .run import run_bricks
 from .warn import user_warnings
-from .worker import mesh_brick, write_brick_part
+from .worker import mesh_brick_specks, write_brick_part
 
 __all__ = ["mesh"]
 
@@ -43,12 +44,20 @@ def _check_parts(parts):
     return path
 
 
-def _warn_thin(solid, h):
-    """The single-process mesher's warning when the voxel is coarser than half the thinnest wall."""
-    t, what = thinnest_wall(solid)
-    if np.isfinite(t) and h > t / 2:
-        warnings.warn(f"mesh: voxel size {h:.4g} is coarser than half the thinnest wall ({what}: {t:.4g}); "
-                      f"the wall may be lost; voxel_size={t / WALL_VOXELS:.4g} keeps it", RuntimeWarning)
+def _warn_specks(plan, parts, announced, name_by):
+    """The single-process mesher's lost-feature warning from the bricks' candidates: measured here, all
+    bricks' together, so that the budget, the thinnest feature and the count are the ones of one process
+    (a cell lies in one brick: no candidate comes twice)."""
+    found = [p["specks"] for p in parts if p.get("specks") is not None]
+    if not found:
+        return None
+    from ..cells.specks import examine, warn_feature
+
+    h = plan.spec.voxel_size
+    feat = examine(plan.lattice.solid, np.concatenate([f["points"] for f in found]).reshape(-1, 3),
+                   np.concatenate([f["side"] for f in found]), np.concatenate([f["depth"] for f in found]), h,
+                   cells=sum(int(p["boundary_cells"]) for p in parts), name_by=name_by)
+    return warn_feature(feat, h, announced)
 
 
 @user_warnings
@@ -119,7 +128,9 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
     plan = plan_bricks(solid, voxel_size=voxel_size, resolution=resolution, bounds=bounds, refine=refine,
                        block=block, brick=brick)
     h = plan.spec.voxel_size
-    _warn_thin(plan.lattice.solid, h)
+    # the warnings of the single-process mesher: the thinnest wall (the tree's, else the field's), then
+    # the features lost whatever their faces, from every brick's candidates
+    announced = _warn_thin(plan.lattice.solid, h, plan.lattice.bounds)
     if plan.lattice.empty or plan.bricks.shape[0] == 0:
         what = "the solid is empty (its bounds enclose nothing)" if plan.lattice.empty else \
             "no boundary in the region (the solid is empty there or fills it)"
@@ -129,7 +140,7 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
     with connect(client, workers) as c:
         if index is None:
             results = [None] * plan.bricks.shape[0]
-            for i, part in run_bricks(c, mesh_brick, plan.spec, plan.bricks, progress=progress, name="mesh"):
+            for i, part in run_bricks(c, mesh_brick_specks, plan.spec, plan.bricks, progress=progress, name="mesh"):
                 evaluations += part["evaluations"]
                 cells += part["boundary_cells"]
                 blocks += part["blocks"]
@@ -142,7 +153,10 @@ def mesh(solid, *, client=None, workers=None, voxel_size=None, resolution=None, 
             for i, info in run_bricks(c, write_brick_part, plan.spec, plan.bricks, progress=progress,
                                       extra=paths, name="mesh-part"):
                 infos[i] = info
+    _warn_specks(plan, results if index is None else infos, announced, solid)
     if index is not None:
+        for i in infos:
+            i.pop("specks", None)
         written = [i for i in infos if i["path"]]
         write_pvtp(index, [os.path.relpath(i["path"], os.path.dirname(index)) for i in written])
         return PartitionedMesh(index=index, parts=[i["path"] for i in written],

@@ -20,7 +20,7 @@ from ..cells.lattice import CHILD_OFFSETS, Lattice
 from ..meshing import mesh_cells
 from ..meshing.boundary import boundary_cells_2h
 
-__all__ = ["solid_from_json", "mesh_brick", "brick_moments", "write_brick_part", "brick_band", "peak_rss",
+__all__ = ["solid_from_json", "mesh_brick", "mesh_brick_specks", "brick_moments", "write_brick_part", "brick_band", "peak_rss",
            "mesh_brick_normals", "shared_normals", "brick_area_moments", "brick_rim", "brick_area_moments_again"]
 
 
@@ -41,7 +41,16 @@ def _lattice(spec):
     return Lattice(solid, np.array(spec.origin), spec.voxel_size, np.array(spec.shape), bounds)
 
 
-def mesh_brick(spec, brick):
+def _start(spec, brick, lattice):
+    """Where a brick's classification starts: its children.  A lattice of 8 voxels or fewer (depth 3 at
+    most) is one brick, the root, whose children lie below the levels `boundary_cells_2h` classifies by
+    bounds: it is classified whole, as one process does."""
+    if spec.level == 0 and lattice.depth <= 3:
+        return None
+    return (spec.level + 1, (2 * brick[:, None, :] + CHILD_OFFSETS).reshape(-1, 3))
+
+
+def mesh_brick(spec, brick, specks=False):
     """Mesh the boundary inside one brick.
 
     Parameters
@@ -49,6 +58,11 @@ def mesh_brick(spec, brick):
     spec : BrickSpec
     brick : (3,) int
         Index of the brick (an octree cell of level ``spec.level``).
+    specks : bool
+        Also return, as ``specks``, the brick's candidates for a lost feature
+        (`spatial.cells.specks.speck_candidates`: ``points``, ``side``,
+        ``depth``; None when the classification sampled no centres), for the
+        client to measure with every brick's.
 
     Returns
     -------
@@ -63,12 +77,14 @@ def mesh_brick(spec, brick):
     t0, c0 = time.perf_counter(), time.process_time()
     lattice = _lattice(spec)
     brick = np.asarray(brick, dtype=np.int32).reshape(1, 3)
-    start = (spec.level + 1, (2 * brick[:, None, :] + CHILD_OFFSETS).reshape(-1, 3))
+    start = _start(spec, brick, lattice)
     found = boundary_cells_2h(lattice, False, start=start)
     cells = found.pop("cells")
     out = dict(points=np.empty((0, 3)), faces=np.empty((0, 3), np.int32), edges=np.empty(0, np.int64),
                shared=np.empty(0, bool), evaluations=int(found["evaluations"]), boundary_cells=int(cells.shape[0]),
                blocks=0)
+    if specks:
+        out["specks"] = _brick_specks(lattice, cells, found)
     if cells.shape[0]:
         with warnings.catch_warnings():
             # a brick the surface only grazes may hold no triangle: not worth a warning per brick
@@ -87,6 +103,22 @@ def mesh_brick(spec, brick):
     out["seconds"] = time.perf_counter() - t0
     out["cpu_seconds"] = time.process_time() - c0
     return out
+
+
+def _brick_specks(lattice, cells, found):
+    """The brick's candidates for a lost feature (its neighbours beyond the brick are sampled)."""
+    if found["centres"] is None:
+        return None
+    from ..cells.specks import speck_candidates
+
+    pts, side, depth = speck_candidates(lattice.solid, lattice.origin, lattice.voxel_size, cells, found["centres"],
+                                        uniform=found["uniform"], uniform_parents=found["uniform_parents"])
+    return dict(points=pts, side=side, depth=depth)
+
+
+def mesh_brick_specks(spec, brick):
+    """`mesh_brick` with the brick's candidates for a lost feature (``specks``)."""
+    return mesh_brick(spec, brick, specks=True)
 
 
 def on_brick_faces(edges, spec):
@@ -124,20 +156,22 @@ def brick_moments(spec, brick, center, correct=True):
 def write_brick_part(spec, brick, path):
     """Mesh one brick and write it to `path` (.vtp, with the ``edge_id`` of every vertex).
 
-    Returns the part's figures (no arrays): ``path`` (None when the brick
-    holds no triangle), ``points``, ``triangles``, ``shared``,
+    Returns the part's figures (no arrays but its few candidates for a lost
+    feature, ``specks``, as `mesh_brick` gives them): ``path`` (None when
+    the brick holds no triangle), ``points``, ``triangles``, ``shared``,
     ``evaluations``, ``seconds``.
     """
     import pyvista as pv
 
     from ..files.atomic import atomic_write
 
-    part = mesh_brick(spec, brick)
+    part = mesh_brick(spec, brick, specks=True)
     n = int(part["faces"].shape[0])
     t0, c0 = time.perf_counter(), time.process_time()
     info = dict(path=None, points=int(part["points"].shape[0]), triangles=n,
                 shared=int(np.count_nonzero(part["shared"])), evaluations=part["evaluations"],
-                boundary_cells=part["boundary_cells"], seconds=part["seconds"], cpu_seconds=part["cpu_seconds"])
+                boundary_cells=part["boundary_cells"], seconds=part["seconds"], cpu_seconds=part["cpu_seconds"],
+                specks=part["specks"])
     if n:
         poly = pv.PolyData.from_regular_faces(part.pop("points"), part.pop("faces"))
         poly.point_data["edge_id"] = part.pop("edges")
@@ -161,7 +195,7 @@ def brick_band(spec, brick):
     """
     lattice = _lattice(spec)
     brick = np.asarray(brick, dtype=np.int32).reshape(1, 3)
-    start = (spec.level + 1, (2 * brick[:, None, :] + CHILD_OFFSETS).reshape(-1, 3))
+    start = _start(spec, brick, lattice)
     found = boundary_cells_2h(lattice, False, start=start)
     cells = np.asarray(found["cells"], dtype=np.int64)
     if cells.shape[0] == 0:

@@ -15,6 +15,9 @@ from spatial.cells.lattice import make_lattice
 from spatial.cells.specks import lost_feature
 from spatial.meshing.boundary import boundary_cells_2h
 
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+from speckparts import many_specks  # noqa: E402
+
 
 def _messages(solid, **kw):
     with warnings.catch_warnings(record=True) as caught:
@@ -113,3 +116,113 @@ def test_detection_costs_few_evaluations(seed):
                      uniform=found["uniform"], uniform_parents=found["uniform_parents"])
     assert f is not None
     assert sum(calls) <= 4 * 17 ** 3
+
+
+def test_specks_beyond_the_budget_are_counted_and_said():
+    # 100 specks beside a box of 730 BOUNDARY cells: the budget (48) measures the shallowest 48, all lost,
+    # and counts the other 52; a budget of 100 measures them all
+    from spatial.cells import specks
+
+    h = 0.1
+    part = many_specks(h)
+    lat = make_lattice(part, voxel_size=h)
+    found = boundary_cells_2h(lat, False)
+    m = found["cells"].shape[0]
+    assert specks.candidate_budget(m) == specks.MIN_CANDIDATES == 48
+    pts, side, depth = specks.speck_candidates(lat.solid, lat.origin, h, found["cells"], found["centres"],
+                                               uniform=found["uniform"], uniform_parents=found["uniform_parents"])
+    assert pts.shape[0] == 100 and np.all(side == 1)
+    f = specks.examine(lat.solid, pts, side, depth, h, cells=m)
+    assert (f.kind, f.count, f.unexamined) == ("material", 48, 52)
+    assert f.examine_voxel == pytest.approx(h * np.sqrt(m / (100 * specks.CELLS_PER_CANDIDATE)))
+    every = specks.examine(lat.solid, pts, side, depth, h, cells=m, budget=100)
+    assert (every.count, every.unexamined) == (100, 0)
+    # gathered in another order (brick by brick), the same answer
+    perm = np.random.default_rng(0).permutation(100)
+    assert specks.examine(lat.solid, pts[perm], side[perm], depth[perm], h, cells=m) == f
+    # the mesh says so (the tree knows the spheres' walls, so the overflow is said on its own line)
+    _, said = _messages(part, voxel_size=h)
+    told = [s for s in said if "not examined" in s]
+    assert len(told) == 1 and "52 candidates for a feature the lattice may lose not examined" in told[0], said
+    assert f"voxel_size={f.examine_voxel:.4g} examines them" in told[0]
+
+
+def test_a_budget_that_follows_the_surface_examines_them_all(monkeypatch):
+    from spatial.cells import specks
+
+    h = 0.1
+    part = many_specks(h, n=60)
+    lat = make_lattice(part, voxel_size=h)
+    found = boundary_cells_2h(lat, False)
+    monkeypatch.setattr(specks, "CELLS_PER_CANDIDATE", 4)
+    assert specks.candidate_budget(found["cells"].shape[0]) > 60
+    f = lost_feature(lat.solid, lat.origin, h, found["cells"], found["centres"], uniform=found["uniform"],
+                     uniform_parents=found["uniform_parents"])
+    assert (f.kind, f.count, f.unexamined) == ("material", 60, 0)
+    # nothing lost among the examined but some left out: a feature of kind 'unexamined'
+    pts = np.array([[3.0, 3.0, 3.0], [3.0, 3.0, 3.5]])
+    u = specks.examine(I.box(1.0), pts, np.ones(2, np.int8), np.zeros(2), h, cells=10, budget=1)
+    assert (u.kind, u.unexamined) == ("unexamined", 1)
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        specks.warn_feature(u, h)
+    assert "1 candidates for a feature the lattice may lose not examined" in str(said[0].message)
+
+
+@pytest.mark.parametrize("which", ["gaps", "speck", "many", 1274, 3132])
+def test_sorted_fallback_gives_the_compiled_candidates(which, monkeypatch):
+    # a shell whose box holds more than DENSE_CELLS cells is searched on sorted keys: the same candidates
+    from spatial.cells import specks
+
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+    from fuzzgen import random_case
+
+    bounds = None
+    if which == "gaps":
+        solid, h = GAPS, 0.05
+    elif which == "speck":
+        solid, h = I.box(1.0) | (I.sphere(1, (-0.96, 0.01, 2.02)) & I.sphere(1, (0.96, 0.01, 2.02))
+                                 & I.sphere(1, (0.0, 0.97, 2.02))), 0.1
+    elif which == "many":
+        solid, h = many_specks(0.1, n=20), 0.1
+    else:
+        c = random_case(which, resolutions=(16, 48), max_depth=5)
+        solid, h, bounds = c.solid, c.voxel_size, c.bounds
+    lat = make_lattice(solid, voxel_size=h, bounds=bounds)
+    found = boundary_cells_2h(lat, False)
+    args = (lat.solid, lat.origin, lat.voxel_size, found["cells"], found["centres"], found["uniform"],
+            found["uniform_parents"])
+    dense = specks._candidates(*args)
+    feat = lost_feature(*args[:5], uniform=args[5], uniform_parents=args[6])
+    monkeypatch.setattr(specks, "DENSE_CELLS", 0)
+    called = []
+    real = specks._sorted_candidates
+    monkeypatch.setattr(specks, "_sorted_candidates", lambda *a: called.append(1) or real(*a))
+    sparse = specks._candidates(*args)
+    assert called
+    assert dense[0].size > 0
+    a, b = np.lexsort((dense[1], dense[0])), np.lexsort((sparse[1], sparse[0]))
+    np.testing.assert_array_equal(dense[0][a], sparse[0][b])
+    np.testing.assert_array_equal(dense[1][a], sparse[1][b])
+    assert lost_feature(*args[:5], uniform=args[5], uniform_parents=args[6]) == feat
+
+
+def test_a_plateau_of_candidates_is_one_and_only_unmeasured_plateaus_are_counted():
+    # 100 candidates side by side (cells 2h apart) of one value: one plateau, measured first, nothing
+    # left out; the same candidates at 100 values are 100 plateaus, 52 of them beyond the budget
+    from spatial.cells import specks
+
+    h = 0.1
+    g = np.stack(np.meshgrid(np.arange(10), np.arange(10), indexing="ij"), -1).reshape(-1, 2) * 2 * h
+    pts = np.column_stack([g, np.full(100, 3.0)])
+    side = -np.ones(100, np.int8)
+    assert specks._plateaus(pts, side, np.zeros(100), h).max() == 0
+    assert specks.examine(I.box(1.0), pts, side, np.zeros(100), h, cells=100) is None
+    depth = np.linspace(0, 0.01, 100)
+    assert np.unique(specks._plateaus(pts, side, depth, h)).size == 100
+    u = specks.examine(I.box(1.0), pts, side, depth, h, cells=100)
+    assert (u.kind, u.unexamined) == ("unexamined", 52)
+    # two plateaus: the second one's first member comes before the first one's second
+    lab = np.array([0, 0, 0, 1, 1])
+    np.testing.assert_array_equal(specks._rank_within(lab), [0, 1, 2, 0, 1])
+    np.testing.assert_array_equal(specks._rank_within(np.array([1, 0, 1, 0])), [0, 0, 1, 1])
