@@ -25,9 +25,9 @@ _EDGE_FACES = np.array([[2, 3], [0, 3], [1, 3], [1, 2], [0, 2], [0, 1]], dtype=n
 
 
 @njit(cache=True, nogil=True)
-def _score(x, min_d, hi_scale, re, min_g, opp, edges, edge_faces):
-    """Score and signed volume of the tetrahedron with corners ``x`` (4, 3)."""
-    n = np.empty((4, 3))
+def _face_normals(x, opp, n):
+    """Unit normals ``n`` (4, 3) of the faces of the tetrahedron ``x`` (4, 3), face ``i`` opposite
+    corner ``i`` and pointing towards it (zero for a corner on its face's plane)."""
     for i in range(4):
         a, b, c = opp[i, 0], opp[i, 1], opp[i, 2]
         u0, u1, u2 = x[b, 0] - x[a, 0], x[b, 1] - x[a, 1], x[b, 2] - x[a, 2]
@@ -37,6 +37,13 @@ def _score(x, min_d, hi_scale, re, min_g, opp, edges, edge_faces):
         sg = 1.0 if s > 0 else (-1.0 if s < 0 else 0.0)
         norm = max(math.sqrt(n0 * n0 + n1 * n1 + n2 * n2), 1e-300)
         n[i, 0], n[i, 1], n[i, 2] = sg * n0 / norm, sg * n1 / norm, sg * n2 / norm
+
+
+@njit(cache=True, nogil=True)
+def _score(x, min_d, hi_scale, re, min_g, opp, edges, edge_faces):
+    """Score and signed volume of the tetrahedron with corners ``x`` (4, 3)."""
+    n = np.empty((4, 3))
+    _face_normals(x, opp, n)
     lo, hi = 180.0, 0.0
     for e in range(6):
         f, g = edge_faces[e, 0], edge_faces[e, 1]
@@ -153,15 +160,7 @@ def _corner_measures(points, tets, opp, edge_faces):
         for k in range(4):
             for d in range(3):
                 x[k, d] = points[tets[t, k], d]
-        for i in range(4):
-            a, b, c = opp[i, 0], opp[i, 1], opp[i, 2]
-            u0, u1, u2 = x[b, 0] - x[a, 0], x[b, 1] - x[a, 1], x[b, 2] - x[a, 2]
-            v0, v1, v2 = x[c, 0] - x[a, 0], x[c, 1] - x[a, 1], x[c, 2] - x[a, 2]
-            n0, n1, n2 = u1 * v2 - u2 * v1, u2 * v0 - u0 * v2, u0 * v1 - u1 * v0
-            s = n0 * (x[i, 0] - x[a, 0]) + n1 * (x[i, 1] - x[a, 1]) + n2 * (x[i, 2] - x[a, 2])
-            sg = 1.0 if s > 0 else (-1.0 if s < 0 else 0.0)
-            norm = max(math.sqrt(n0 * n0 + n1 * n1 + n2 * n2), 1e-300)
-            nrm[i, 0], nrm[i, 1], nrm[i, 2] = sg * n0 / norm, sg * n1 / norm, sg * n2 / norm
+        _face_normals(x, opp, nrm)
         lo, hi = 180.0, 0.0
         for e in range(6):
             f, g = edge_faces[e, 0], edge_faces[e, 1]
