@@ -295,6 +295,16 @@ def _live_star(star, start, dropped, x, out):
 
 
 @numba.njit(cache=True, nogil=True)
+def _holds(faces, into, tris, count, w):
+    """Whether one of the first `count` triangles `tris` has a corner that maps (`into`) to vertex `w`."""
+    for s in range(count):
+        u = tris[s]
+        if into[faces[u, 0]] == w or into[faces[u, 1]] == w or into[faces[u, 2]] == w:
+            return True
+    return False
+
+
+@numba.njit(cache=True, nogil=True)
 def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move, tv, tf, common):
     """Whether moving `v` onto the feature vertex `fv` (and dropping their two triangles) is safe
     (`tv`, `tf`, `common`: buffers of 128, 128 and 16)."""
@@ -311,15 +321,8 @@ def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move
             w = into[faces[t, j]]
             if not near[w]:
                 beyond = True
-            if w >= n and w != fv:
-                joined = False
-                for s in range(n_f):
-                    u = tf[s]
-                    if into[faces[u, 0]] == w or into[faces[u, 1]] == w or into[faces[u, 2]] == w:
-                        joined = True
-                        break
-                if not joined:
-                    return False
+            if w >= n and w != fv and not _holds(faces, into, tf, n_f, w):
+                return False
     if not beyond:
         return False
     # the link condition: exactly two triangles hold the edge, and the two ends share no other neighbour
@@ -337,13 +340,7 @@ def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move
             w = into[faces[t, j]]
             if w == v or w == fv:
                 continue
-            hit = False
-            for s in range(n_f):
-                u = tf[s]
-                if into[faces[u, 0]] == w or into[faces[u, 1]] == w or into[faces[u, 2]] == w:
-                    hit = True
-                    break
-            if hit:
+            if _holds(faces, into, tf, n_f, w):
                 new = True
                 for i in range(n_common):
                     if common[i] == w:
