@@ -78,7 +78,7 @@ def collapse_fans(points, faces, n, cos_move=COS_MOVE):
     return out, c
 
 
-def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True):
+def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, dtype=np.int64):
     """The feature mesh's triangles: `faces` not in `drop`, then `new_faces`, with the fans collapsed.
 
     Parameters
@@ -95,10 +95,12 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True):
     cos_move : float
     renumber : bool
         Renumber the vertices to those used (in order).
+    dtype : {numpy.int64, numpy.int32}
+        Integer type of the triangles returned (int32 needs fewer than 2**31 points).
 
     Returns
     -------
-    faces : (m', 3) int64
+    faces : (m', 3) `dtype`
     used : (p,) bool
         The points the triangles use (the vertices taken by a collapse, and
         marching cubes' inner vertices of the fanned cells, are not).
@@ -110,8 +112,24 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True):
     if f.dtype not in (np.int32, np.int64):
         f = f.astype(np.int64)
     new = np.ascontiguousarray(new_faces, dtype=np.int64).reshape(-1, 3)
-    return _finish(np.ascontiguousarray(points, dtype=np.float64), f, np.ascontiguousarray(drop, dtype=np.bool_),
-                   new, np.int64(n), float(cos_move), bool(renumber))
+    p = np.ascontiguousarray(points, dtype=np.float64)
+    drop = np.ascontiguousarray(drop, dtype=np.bool_)
+    n_p = p.shape[0]
+    dtype = np.dtype(dtype)
+    if dtype not in (np.int32, np.int64):
+        raise ValueError(f"dtype: expected numpy.int32 or numpy.int64, got {dtype}")
+    if dtype == np.int32 and n_p >= 2 ** 31:
+        raise ValueError(f"dtype: int32 triangles cannot index {n_p} points")
+    # the arrays over every point or triangle are made here, by numpy, which asks the system for huge
+    # pages (allocated in the kernel, they would be faulted in 4 kB at a time); the results are cut to
+    # their length from bounds (2 triangles per collapse, the points not used)
+    ix = np.int32 if n_p < 2 ** 31 - 1 else np.int64
+    out = np.empty((f.shape[0] - int(np.count_nonzero(drop)) + new.shape[0], 3), dtype)
+    pout = np.empty((n_p, 3))
+    into, start = np.empty(n_p, ix), np.empty(n_p + 1, ix)
+    n_out, used, c, n_used = _finish(p, f, drop, new, np.int64(n), float(cos_move), bool(renumber), into, start,
+                                     out, pout)
+    return out[:n_out], used, c, pout[:n_used]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -123,7 +141,9 @@ def _normal(p, a, b, c, ax, ay, az):
 
 
 @numba.njit(cache=True, nogil=True)
-def _finish(p, f, drop, new, n, cos_move, renumber):
+def _finish(p, f, drop, new, n, cos_move, renumber, into, start, out, pout):
+    """`finish` into the buffers `into` (p,), `start` (p + 1,), `out` and `pout` (bounds); returns the
+    rows of `out` and `pout` written, `used` and the count of collapses."""
     m = f.shape[0]
     n_p = p.shape[0]
     # the vertices near the fans (those of the new triangles) and every triangle around them, local
@@ -165,17 +185,15 @@ def _finish(p, f, drop, new, n, cos_move, renumber):
         for j in range(3):
             faces[r, j] = new[t, j]
         r += 1
-    into, dropped, c = _collapse(p, faces, n, near, cos_move)
+    dropped, c = _collapse(p, faces, n, near, cos_move, into, start)
     for v in range(n_p):
         if into[v] != v:
             used[v] = False
-    index = np.arange(n_p)
-    if renumber:
-        q = 0
-        for v in range(n_p):
-            index[v] = q
-            q += used[v]
-    out = np.empty((n_kept + new.shape[0] - 2 * c, 3), np.int64)
+    index = start      # (free once the collapses are made)
+    q = 0
+    for v in range(n_p):
+        index[v] = q if renumber else v
+        q += used[v]
     r = 0
     s = 0     # next local triangle that came from `f`
     for t in range(m):
@@ -197,41 +215,42 @@ def _finish(p, f, drop, new, n, cos_move, renumber):
                 out[r, j] = index[into[faces[s, j]]]
             r += 1
     # the points used, in order (all of them when not renumbering)
-    n_used = 0
-    for v in range(n_p):
-        n_used += used[v] or not renumber
-    pout = np.empty((n_used, 3))
     q = 0
     for v in range(n_p):
         if used[v] or not renumber:
             pout[q, 0] = p[v, 0]; pout[q, 1] = p[v, 1]; pout[q, 2] = p[v, 2]
             q += 1
-    return out, used, c, pout
+    return r, used, c, q
 
 
 @numba.njit(cache=True, nogil=True)
-def _collapse(p, faces, n, near, cos_move):
-    """Collapses on the local triangles `faces`: the vertex each point went into, the triangles dropped."""
+def _collapse(p, faces, n, near, cos_move, into, start):
+    """Collapses on the local triangles `faces`: the vertex each point went into (`into`, filled), the
+    triangles dropped.  `start` (p + 1,) is a work array."""
     m = faces.shape[0]
     n_p = p.shape[0]
-    start = np.zeros(n_p + 1, np.int64)
+    start[:] = 0
     for t in range(m):
         for j in range(3):
             if near[faces[t, j]]:
                 start[faces[t, j] + 1] += 1
     for v in range(n_p):
         start[v + 1] += start[v]
-    fill = start[:-1].copy()
     star = np.empty(start[n_p], np.int64)
+    # each vertex's triangles in order, its `start` used as the cursor, then shifted back
     for t in range(m):
         for j in range(3):
             v = faces[t, j]
             if near[v]:
-                star[fill[v]] = t
-                fill[v] += 1
+                star[start[v]] = t
+                start[v] += 1
+    for v in range(n_p, 0, -1):
+        start[v] = start[v - 1]
+    start[0] = 0
     # the mesh as it is after the collapses made so far: a collapsed vertex is read as the feature
     # vertex it went into (a feature vertex takes one at most), dropped triangles are skipped
-    into = np.arange(n_p)
+    for v in range(n_p):
+        into[v] = v
     dropped = np.zeros(m, np.bool_)
     tri = np.empty(128, np.int64)
     ring = np.empty(64, np.int64)
@@ -278,7 +297,7 @@ def _collapse(p, faces, n, near, cos_move):
                 into[v] = fv
                 c += 1
                 break
-    return into, dropped, c
+    return dropped, c
 
 
 @numba.njit(cache=True, nogil=True)

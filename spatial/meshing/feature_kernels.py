@@ -8,13 +8,13 @@ import numpy as np
 
 
 @numba.njit(cache=True, nogil=True)
-def _at_node(pts, origin, h, node_tol):
-    """Vertices within `node_tol` voxels of a lattice node in every coordinate, and the axis of each
-    one's lattice edge (the coordinate farthest from the node; -1 when it sits on the node exactly)."""
+def _at_node(pts, origin, h, node_tol, at, axis):
+    """Vertices within `node_tol` voxels of a lattice node in every coordinate (into `at`), and the axis
+    of each one's lattice edge (into `axis`: the coordinate farthest from the node; -1 when it sits on
+    the node exactly)."""
     n = pts.shape[0]
-    at = np.empty(n, np.bool_)
-    axis = np.full(n, -1, np.int64)
     for v in range(n):
+        axis[v] = -1
         far = 0.0
         for j in range(3):
             u = (pts[v, j] - origin[j]) / h
@@ -23,7 +23,6 @@ def _at_node(pts, origin, h, node_tol):
                 far = d
                 axis[v] = j
         at[v] = far < node_tol
-    return at, axis
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -35,8 +34,9 @@ def _tri_normal(pts, a, b, c):
 
 
 @numba.njit(cache=True, nogil=True)
-def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
-    """Lattice cell of every triangle and whether it departs from a vertex normal (one pass each)."""
+def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked):
+    """Lattice cell of every triangle (into `key`) and whether it departs from a vertex normal (into
+    `marked`), one pass each; the vertex normals go into `vn` (zeros on entry)."""
     m = faces.shape[0]
     n = pts.shape[0]
     # cell keys ``(i * s + j) * s + k`` from a corner below every vertex: the order of the keys is the
@@ -57,8 +57,6 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
         span = np.int64(np.floor((top[j] - origin[j]) / h)) - lo[j] + 2
         if span > s:
             s = span
-    vn = np.zeros((n, 3))
-    key = np.empty(m, np.int64)
     third = 1.0 / 3.0
     for t in range(m):
         a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
@@ -75,8 +73,8 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
         r = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
         if r > 0:
             vn[v, 0] /= r; vn[v, 1] /= r; vn[v, 2] /= r
-    marked = np.zeros(m, np.bool_)
     for t in range(m):
+        marked[t] = False
         # (the triangle's normal again, the same bits: cheaper than storing every one)
         cx, cy, cz = _tri_normal(pts, faces[t, 0], faces[t, 1], faces[t, 2])
         r = np.sqrt(cx ** 2 + cy ** 2 + cz ** 2)
@@ -92,7 +90,7 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node):
             # crossings on lattice edges lying in the face's plane are undefined there, and the chamfer
             # they leave may bend less than the normals' test sees
             marked[t] = worst < cos_limit or (n_node > 0 and n_node < 3)
-    return marked, key, lo, s, vn
+    return lo, s
 
 
 @numba.njit(cache=True, nogil=True)
@@ -110,7 +108,8 @@ def _border_nodes(faces, at_node, axis):
 
 
 @numba.njit(cache=True, nogil=True)
-def _facing_kernel(points, faces, exact, n, min_facing):
+def _facing_kernel(points, faces, normal, index, n, min_facing):
+    """`features._facing_badly`; the exact normal of ordinary vertex ``v`` is ``normal[index[v]]``."""
     m = faces.shape[0]
     bad = np.zeros(m, np.bool_)
     for t in range(m):
@@ -129,7 +128,8 @@ def _facing_kernel(points, faces, exact, n, min_facing):
         for k in range(3):
             v = faces[t, k]
             if v < n:
-                cos = (cx * exact[v, 0] + cy * exact[v, 1] + cz * exact[v, 2]) / area2
+                e = index[v]
+                cos = (cx * normal[e, 0] + cy * normal[e, 1] + cz * normal[e, 2]) / area2
                 if cos < -min_facing:
                     bad[t] = True
                 if cos > best:
@@ -148,12 +148,13 @@ def _slot(k, mask):
 
 
 @numba.njit(cache=True, nogil=True)
-def _group_cells(key, cells, faces, n):
+def _group_cells(key, cells, faces, n, at, index):
     """The candidate cells' triangles and (cell, vertex) pairs, grouped by cell without a global sort.
 
-    `cells` is the sorted array of candidate cell keys.  Each triangle's
-    cell is found by one probe of an open-addressing table (the position in
-    `cells` being the cell's index); a counting sort groups the triangles
+    `cells` is the sorted array of candidate cell keys.  Each run of
+    triangles of one cell (the merged mesh keeps a cell's triangles
+    together) finds its cell by one probe of an open-addressing table (the
+    position in `cells` being the cell's index); a counting sort groups the triangles
     by cell, in triangle order within each, and each cell's few distinct
     vertices are sorted in place.  The result is what ``np.unique`` and a
     stable ``argsort`` would give.
@@ -164,6 +165,9 @@ def _group_cells(key, cells, faces, n):
     pcell, pvert : the (cell, vertex) pairs, sorted
     starts : (cells + 1,) first pair of every cell
     verts, pinv : the distinct vertices (sorted) and each pair's index among them
+
+    `at` (m,) int32 and `index` (n,) int32 are work arrays; `index` is left
+    holding each vertex's position in `verts` (-1: none).
     """
     n_cells = cells.shape[0]
     size = 1
@@ -177,20 +181,26 @@ def _group_cells(key, cells, faces, n):
             slot = (slot + 1) & mask
         table[slot] = c
     m = key.shape[0]
-    at = np.full(m, -1, np.int32)
     count = np.zeros(n_cells + 1, np.int64)
+    prev = np.int64(-1)
+    here = -1
     for t in range(m):
         k = key[t]
-        slot = _slot(k, mask)
-        while True:
-            c = table[slot]
-            if c < 0:
-                break
-            if cells[c] == k:
-                at[t] = c
-                count[c + 1] += 1
-                break
-            slot = (slot + 1) & mask
+        if t == 0 or k != prev:
+            prev = k
+            here = -1
+            slot = _slot(k, mask)
+            while True:
+                c = table[slot]
+                if c < 0:
+                    break
+                if cells[c] == k:
+                    here = c
+                    break
+                slot = (slot + 1) & mask
+        at[t] = here
+        if here >= 0:
+            count[here + 1] += 1
     for c in range(n_cells):
         count[c + 1] += count[c]
     n_tri = count[n_cells]
@@ -232,18 +242,20 @@ def _group_cells(key, cells, faces, n):
     for c in range(n_cells):
         for i in range(starts[c], starts[c + 1]):
             pcell[i] = c
-    seen = np.zeros(n, np.bool_)
+    for v in range(n):
+        index[v] = -1
     for i in range(r):
-        seen[pvert[i]] = True
-    index = np.full(n, -1, np.int64)
+        index[pvert[i]] = 0
     n_verts = 0
     for v in range(n):
-        if seen[v]:
+        if index[v] == 0:
             index[v] = n_verts
             n_verts += 1
+        else:
+            index[v] = -1
     verts = np.empty(n_verts, np.int64)
     for v in range(n):
-        if seen[v]:
+        if index[v] >= 0:
             verts[index[v]] = v
     pinv = np.empty(r, np.int64)
     for i in range(r):
@@ -528,19 +540,20 @@ def _newton_step(q, jac, val, used):
 # -- the pass's stages, each one compiled function (one cache load each in a fresh process) ------
 
 @numba.njit(cache=True, nogil=True)
-def _nodes(pts, faces, origin, h, node_tol):
-    """`_at_node` and `_border_nodes` in one call."""
-    at, axis = _at_node(pts, origin, h, node_tol)
-    return at, axis, _border_nodes(faces, at, axis)
+def _nodes(pts, faces, origin, h, node_tol, at, axis):
+    """`_at_node` (into `at`, `axis`) and `_border_nodes` in one call."""
+    _at_node(pts, origin, h, node_tol, at, axis)
+    return _border_nodes(faces, at, axis)
 
 
 @numba.njit(cache=True, nogil=True)
-def _cells(pts, faces, origin, h, cos_limit, at_node):
-    """`_candidate_cells`, the sorted candidate keys and `_group_cells` in one call."""
-    marked, key, lo, s, vn = _candidate_cells(pts, faces, origin, h, cos_limit, at_node)
+def _cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked, at, index):
+    """`_candidate_cells`, the sorted candidate keys and `_group_cells` in one call (the arrays after
+    `at_node` are the work arrays of those two, made by the caller)."""
+    lo, s = _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked)
     cand = np.unique(key[marked])
-    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(key, cand, faces, pts.shape[0])
-    return cand, lo, s, vn, tri, tcell, pvert, starts, verts, pinv
+    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(key, cand, faces, pts.shape[0], at, index)
+    return cand, lo, s, tri, tcell, pvert, starts, verts, pinv
 
 
 @numba.njit(cache=True, nogil=True)

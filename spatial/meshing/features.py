@@ -163,33 +163,46 @@ def sharpen(solid, points, faces, origin, h):
         f = f.astype(np.int64)
     n = pts.shape[0]
     ff = FacetField(solid)
-    plain = dict(points=pts, faces=f, feature_rank=np.zeros(n, np.int8),
-                 feature_facets=np.full((n, 3), -1, np.int32), facet_names=list(ff.names), feature_cells=0)
+
+    def plain(pts=pts):
+        return dict(points=pts, faces=f, feature_rank=np.zeros(n, np.int8),
+                    feature_facets=np.full((n, 3), -1, np.int32), facet_names=list(ff.names), feature_cells=0)
+
     if f.shape[0] == 0:
-        return plain
+        return plain()
     origin = np.asarray(origin, dtype=np.float64)
+    m = f.shape[0]
 
     # -- 0. vertices on lattice edges lying in a face ------------------------------------------
-    at_node, axis, border = _nodes(pts, f, origin, float(h), AT_NODE)
+    # (the pass's arrays over every vertex or triangle are made here by numpy, which asks the system for
+    # huge pages: allocated inside the kernels, they would be faulted in 4 kB at a time)
+    at_node, axis = np.empty(n, np.bool_), np.empty(n, np.int8)
+    border = _nodes(pts, f, origin, float(h), AT_NODE, at_node, axis)
     pts, moved = _off_flat_edges(solid, pts, border, axis, origin, float(h))
+    del border, axis
     u = (pts[moved] - origin) / h
     at_node[moved] = np.abs(u - np.floor(u + 0.5)).max(axis=1, initial=0.0) < AT_NODE
 
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
-    cand, lo, s, vn, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
-                                                                    at_node)
+    # (`index`: each vertex's row among the candidate cells' vertices, -1 for the others)
+    vn, index = np.zeros((n, 3)), np.empty(n, np.int32)
+    work = np.empty(m, np.int64), np.empty(m, np.bool_), np.empty(m, np.int32)
+    cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
+                                                                 at_node, vn, *work, index)
+    del work, at_node
     if cand.shape[0] == 0:
-        return plain
+        return plain()
     n_cells = cand.shape[0]
+    vn = vn[verts]
 
     # -- 2. exact normals at the vertices of the candidate cells ------------------------------
     # the exact normal of the face deciding the field (closed forms; forward steps of 1e-6 h where none)
     at_verts = pts[verts]
     decider = np.asarray(ff.decide(at_verts)[1], dtype=np.int64)
     normal = _unit(ff.gradients_of(at_verts, decider, 1e-6 * h))
-    normal *= np.where(np.einsum("ij,ij->i", normal, vn[verts]) < 0, -1.0, 1.0)[:, None]
-    exact = np.zeros((n, 3))
-    exact[verts] = normal
+    normal *= np.where(np.einsum("ij,ij->i", normal, vn) < 0, -1.0, 1.0)[:, None]
+    del vn, at_verts
+    exact = (normal, index)
 
     # -- 3. QEF per cell ---------------------------------------------------------------------
     # (with the faces in each cell, most frequent first: the labels, and the surfaces to solve on; and
@@ -214,13 +227,14 @@ def sharpen(solid, points, faces, origin, h):
         gone = np.unique(owner[bad].reshape(-1))
         feature[gone[gone >= 0]] = False
     else:
-        return plain
+        return plain()
     drop = np.zeros(f.shape[0], np.bool_)
     drop[tri[feature[tcell]]] = True
     # the fans' two extra triangles each are taken back by collapsing a polygon vertex into the feature
     # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
     # corner of the fan that replaced the cell's triangles) is dropped
-    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n)
+    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n,
+                                      dtype=np.int32 if newp.shape[0] < 2 ** 31 else np.int64)
     # the feature vertices come last, in the order of their cells
     kept = used[n:]
     n_plain = newp.shape[0] - int(kept.sum())
@@ -393,7 +407,8 @@ def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
     ks = ekey[order]
     twin = np.flatnonzero(ks[1:] == ks[:-1])
     i, j = order[twin], order[twin + 1]
-    differ = np.einsum("ij,ij->i", exact[b0[i]], exact[b1[i]]) < COS_SHARP
+    normal, index = exact
+    differ = np.einsum("ij,ij->i", normal[index[b0[i]]], normal[index[b1[i]]]) < COS_SHARP
     i, j = i[differ], j[differ]
     fk = np.minimum(fan[i, 2], fan[j, 2]) * np.int64(n + n_cells) + np.maximum(fan[i, 2], fan[j, 2])
     uk, cnt = np.unique(fk, return_counts=True)
@@ -414,13 +429,14 @@ def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
 
 
 def _facing_badly(points, faces, exact, n):
-    """New triangles that are degenerate, or do not face their ordinary vertices' exact normals.
+    """New triangles that are degenerate, or do not face their ordinary vertices' exact normals
+    (`exact`: the normals of the candidate cells' vertices and each vertex's row among them).
 
     A vertex next to an edge may belong to the other face, so a triangle
     must face the normal of one of its ordinary vertices (``cos >
     MIN_FACING``) and oppose none (``cos > -MIN_FACING``).
     """
-    return _facing_kernel(points, np.ascontiguousarray(faces, dtype=np.int64), exact, n, MIN_FACING)
+    return _facing_kernel(points, np.ascontiguousarray(faces, dtype=np.int64), exact[0], exact[1], n, MIN_FACING)
 
 
 def sharp_polydata(solid, points, faces, origin, h):
