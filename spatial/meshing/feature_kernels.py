@@ -538,6 +538,20 @@ def _newton_step(q, jac, val, used):
 
 
 # -- the pass's stages, each one compiled function (one cache load each in a fresh process) ------
+# (written without numba's array expressions and `np.unique`: loading a kernel that uses them imports
+# numba's ufunc and list modules, some 0.03 s of a fresh process that the plain mesh never pays)
+
+@numba.njit(cache=True, nogil=True)
+def _sorted_unique(a):
+    """The distinct values of `a`, ascending (`np.unique`; `a` is sorted in place)."""
+    a.sort()
+    k = 0
+    for i in range(a.shape[0]):
+        if i == 0 or a[i] != a[k - 1]:
+            a[k] = a[i]
+            k += 1
+    return a[:k].copy()
+
 
 @numba.njit(cache=True, nogil=True)
 def _nodes(pts, faces, origin, h, node_tol, at, axis):
@@ -551,7 +565,7 @@ def _cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked, at, index
     """`_candidate_cells`, the sorted candidate keys and `_group_cells` in one call (the arrays after
     `at_node` are the work arrays of those two, made by the caller)."""
     lo, s = _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked)
-    cand = np.unique(key[marked])
+    cand = _sorted_unique(key[marked])
     tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(key, cand, faces, pts.shape[0], at, index)
     return cand, lo, s, tri, tcell, pvert, starts, verts, pinv
 
@@ -565,5 +579,8 @@ def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, decider, c
     for i in range(tri.shape[0]):
         for j in range(3):
             t_verts[i, j] = faces[tri[i], j]
-    b0, b1, bc, disc = _cell_borders(t_verts, tcell, rank >= 2, pts.shape[0])
+    edge = np.empty(rank.shape[0], np.bool_)
+    for c in range(rank.shape[0]):
+        edge[c] = rank[c] >= 2
+    b0, b1, bc, disc = _cell_borders(t_verts, tcell, edge, pts.shape[0])
     return x, rank, labels, n_faces, b0, b1, bc, disc
