@@ -34,9 +34,16 @@ def _tri_normal(pts, a, b, c):
 
 
 @numba.njit(cache=True, nogil=True)
-def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked):
-    """Lattice cell of every triangle (into `key`) and whether it departs from a vertex normal (into
-    `marked`), one pass each; the vertex normals go into `vn` (zeros on entry)."""
+def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked):
+    """The runs of triangles of one lattice cell and whether one of a run's triangles departs from a
+    vertex normal, in one pass each; the vertex normals go into `vn` (zeros on entry).
+
+    A run is a maximal stretch of consecutive triangles of one cell (the
+    merged mesh keeps a cell's triangles together: about one run per cell).
+    Run ``r`` holds the triangles ``run_start[r]:run_start[r + 1]`` of cell
+    key ``run_key[r]``; `run_marked` says whether one of them is marked.
+    Returns the number of runs, the corner and the stride of the keys.
+    """
     m = faces.shape[0]
     n = pts.shape[0]
     # cell keys ``(i * s + j) * s + k`` from a corner below every vertex: the order of the keys is the
@@ -58,6 +65,7 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked)
         if span > s:
             s = span
     third = 1.0 / 3.0
+    n_runs = 0
     for t in range(m):
         a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
         cx, cy, cz = _tri_normal(pts, a, b, c)
@@ -68,29 +76,36 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked)
         for j in range(3):
             q = (pts[a, j] + pts[b, j] + pts[c, j]) * third
             k = k * s + np.int64(np.floor((q - origin[j]) / h)) - lo[j]
-        key[t] = k
+        if n_runs == 0 or run_key[n_runs - 1] != k:
+            run_start[n_runs] = t
+            run_key[n_runs] = k
+            run_marked[n_runs] = False
+            n_runs += 1
+    run_start[n_runs] = m
     for v in range(n):
         r = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
         if r > 0:
             vn[v, 0] /= r; vn[v, 1] /= r; vn[v, 2] /= r
-    for t in range(m):
-        marked[t] = False
-        # (the triangle's normal again, the same bits: cheaper than storing every one)
-        cx, cy, cz = _tri_normal(pts, faces[t, 0], faces[t, 1], faces[t, 2])
-        r = np.sqrt(cx ** 2 + cy ** 2 + cz ** 2)
-        if r > 0:
-            worst = 1.0
-            for k in range(3):
-                v = faces[t, k]
-                d = (cx * vn[v, 0] + cy * vn[v, 1] + cz * vn[v, 2]) / r
-                if d < worst:
-                    worst = d
-            n_node = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
-            # a triangle joining a node vertex to an ordinary one is the border of such a face: the
-            # crossings on lattice edges lying in the face's plane are undefined there, and the chamfer
-            # they leave may bend less than the normals' test sees
-            marked[t] = worst < cos_limit or (n_node > 0 and n_node < 3)
-    return lo, s
+    for q in range(n_runs):
+        for t in range(run_start[q], run_start[q + 1]):
+            # (the triangle's normal again, the same bits: cheaper than storing every one)
+            cx, cy, cz = _tri_normal(pts, faces[t, 0], faces[t, 1], faces[t, 2])
+            r = np.sqrt(cx ** 2 + cy ** 2 + cz ** 2)
+            if r > 0:
+                worst = 1.0
+                for k in range(3):
+                    v = faces[t, k]
+                    d = (cx * vn[v, 0] + cy * vn[v, 1] + cz * vn[v, 2]) / r
+                    if d < worst:
+                        worst = d
+                n_node = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
+                # a triangle joining a node vertex to an ordinary one is the border of such a face: the
+                # crossings on lattice edges lying in the face's plane are undefined there, and the chamfer
+                # they leave may bend less than the normals' test sees
+                if worst < cos_limit or (n_node > 0 and n_node < 3):
+                    run_marked[q] = True
+                    break       # the run's cell is a candidate: its other triangles need no test
+    return n_runs, lo, s
 
 
 @numba.njit(cache=True, nogil=True)
@@ -148,16 +163,16 @@ def _slot(k, mask):
 
 
 @numba.njit(cache=True, nogil=True)
-def _group_cells(key, cells, faces, n, at, index):
+def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
     """The candidate cells' triangles and (cell, vertex) pairs, grouped by cell without a global sort.
 
-    `cells` is the sorted array of candidate cell keys.  Each run of
-    triangles of one cell (the merged mesh keeps a cell's triangles
-    together) finds its cell by one probe of an open-addressing table (the
-    position in `cells` being the cell's index); a counting sort groups the triangles
-    by cell, in triangle order within each, and each cell's few distinct
-    vertices are sorted in place.  The result is what ``np.unique`` and a
-    stable ``argsort`` would give.
+    `cells` is the sorted array of candidate cell keys, the runs those of
+    `_candidate_cells`.  Each run finds its cell by one probe of an
+    open-addressing table (the position in `cells` being the cell's index);
+    a counting sort groups the triangles by cell, in triangle order within
+    each, and each cell's few distinct vertices are sorted in place.  The
+    result is what ``np.unique`` and a stable ``argsort`` of the triangles'
+    cells would give.
 
     Returns
     -------
@@ -166,8 +181,8 @@ def _group_cells(key, cells, faces, n, at, index):
     starts : (cells + 1,) first pair of every cell
     verts, pinv : the distinct vertices (sorted) and each pair's index among them
 
-    `at` (m,) int32 and `index` (n,) int32 are work arrays; `index` is left
-    holding each vertex's position in `verts` (-1: none).
+    `run_key` is overwritten (with each run's cell, -1 for none); `index`
+    (n,) int32 is left holding each vertex's position in `verts` (-1: none).
     """
     n_cells = cells.shape[0]
     size = 1
@@ -180,39 +195,35 @@ def _group_cells(key, cells, faces, n, at, index):
         while table[slot] >= 0:
             slot = (slot + 1) & mask
         table[slot] = c
-    m = key.shape[0]
     count = np.zeros(n_cells + 1, np.int64)
-    prev = np.int64(-1)
-    here = -1
-    for t in range(m):
-        k = key[t]
-        if t == 0 or k != prev:
-            prev = k
-            here = -1
-            slot = _slot(k, mask)
-            while True:
-                c = table[slot]
-                if c < 0:
-                    break
-                if cells[c] == k:
-                    here = c
-                    break
-                slot = (slot + 1) & mask
-        at[t] = here
+    for q in range(n_runs):
+        k = run_key[q]
+        here = -1
+        slot = _slot(k, mask)
+        while True:
+            c = table[slot]
+            if c < 0:
+                break
+            if cells[c] == k:
+                here = c
+                break
+            slot = (slot + 1) & mask
+        run_key[q] = here
         if here >= 0:
-            count[here + 1] += 1
+            count[here + 1] += run_start[q + 1] - run_start[q]
     for c in range(n_cells):
         count[c + 1] += count[c]
     n_tri = count[n_cells]
     tri = np.empty(n_tri, np.int64)
     tcell = np.empty(n_tri, np.int64)
     fill = count[:n_cells].copy()
-    for t in range(m):
-        c = at[t]
+    for q in range(n_runs):
+        c = run_key[q]
         if c >= 0:
-            tri[fill[c]] = t
-            tcell[fill[c]] = c
-            fill[c] += 1
+            for t in range(run_start[q], run_start[q + 1]):
+                tri[fill[c]] = t
+                tcell[fill[c]] = c
+                fill[c] += 1
     # each cell's distinct vertices, sorted (a cell holds a dozen at most: insertion sort)
     buf = np.empty(3 * n_tri, np.int64)
     starts = np.empty(n_cells + 1, np.int64)
@@ -561,12 +572,14 @@ def _nodes(pts, faces, origin, h, node_tol, at, axis):
 
 
 @numba.njit(cache=True, nogil=True)
-def _cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked, at, index):
+def _cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked, index):
     """`_candidate_cells`, the sorted candidate keys and `_group_cells` in one call (the arrays after
-    `at_node` are the work arrays of those two, made by the caller)."""
-    lo, s = _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, key, marked)
-    cand = _sorted_unique(key[marked])
-    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(key, cand, faces, pts.shape[0], at, index)
+    `at_node` are the work arrays of those two, made by the caller: `run_start` (m + 1,), `run_key`
+    (m,), `run_marked` (m,), `index` (n,))."""
+    n_runs, lo, s = _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked)
+    cand = _sorted_unique(run_key[:n_runs][run_marked[:n_runs]])
+    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(run_start, run_key, n_runs, cand, faces,
+                                                                 pts.shape[0], index)
     return cand, lo, s, tri, tcell, pvert, starts, verts, pinv
 
 

@@ -186,7 +186,7 @@ def sharpen(solid, points, faces, origin, h):
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
     # (`index`: each vertex's row among the candidate cells' vertices, -1 for the others)
     vn, index = np.zeros((n, 3)), np.empty(n, np.int32)
-    work = np.empty(m, np.int64), np.empty(m, np.bool_), np.empty(m, np.int32)
+    work = np.empty(m + 1, np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
                                                                  at_node, vn, *work, index)
     del work, at_node
