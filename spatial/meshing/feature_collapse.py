@@ -78,7 +78,8 @@ def collapse_fans(points, faces, n, cos_move=COS_MOVE):
     return out, c
 
 
-def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, dtype=np.int64):
+def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, dtype=np.int64,
+           overwrite_points=False):
     """The feature mesh's triangles: `faces` not in `drop`, then `new_faces`, with the fans collapsed.
 
     Parameters
@@ -97,6 +98,9 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
         Renumber the vertices to those used (in order).
     dtype : {numpy.int64, numpy.int32}
         Integer type of the triangles returned (int32 needs fewer than 2**31 points).
+    overwrite_points : bool
+        Gather the points used at the front of `points` itself (a float64
+        array) and return a view of them, instead of a copy.
 
     Returns
     -------
@@ -113,6 +117,8 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
         f = f.astype(np.int64)
     new = np.ascontiguousarray(new_faces, dtype=np.int64).reshape(-1, 3)
     p = np.ascontiguousarray(points, dtype=np.float64)
+    if overwrite_points and p is not points:
+        raise ValueError("points: overwrite_points needs a C-contiguous float64 array")
     drop = np.ascontiguousarray(drop, dtype=np.bool_)
     n_p = p.shape[0]
     dtype = np.dtype(dtype)
@@ -125,7 +131,8 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
     # their length from bounds (2 triangles per collapse, the points not used)
     ix = np.int32 if n_p < 2 ** 31 - 1 else np.int64
     out = np.empty((f.shape[0] - int(np.count_nonzero(drop)) + new.shape[0], 3), dtype)
-    pout = np.empty((n_p, 3))
+    # (the points are gathered forwards, each to a row at or before its own: in place is safe)
+    pout = p if overwrite_points or not renumber else np.empty((n_p, 3))
     into, start = np.empty(n_p, ix), np.empty(n_p + 1, ix)
     n_out, used, c, n_used = _finish(p, f, drop, new, np.int64(n), float(cos_move), bool(renumber), into, start,
                                      out, pout)

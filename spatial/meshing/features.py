@@ -233,8 +233,10 @@ def sharpen(solid, points, faces, origin, h):
     # the fans' two extra triangles each are taken back by collapsing a polygon vertex into the feature
     # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
     # corner of the fan that replaced the cell's triangles) is dropped
-    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n,
-                                      dtype=np.int32 if newp.shape[0] < 2 ** 31 else np.int64)
+    # (`newp`, unless no fan was made, is this pass's own array: the points used are gathered in it)
+    n_all = newp.shape[0]
+    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=newp is not pts,
+                                      dtype=np.int32 if n_all < 2 ** 31 else np.int64)
     # the feature vertices come last, in the order of their cells
     kept = used[n:]
     n_plain = newp.shape[0] - int(kept.sum())
