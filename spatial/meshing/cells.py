@@ -12,7 +12,7 @@ from ..files.surface import triangle_surface
 from .arrays import (DEFAULT_BLOCK, REFINE_ACCEPT, REFINE_TOL, ZERO_NUDGE, _nudge, _release_free_memory, _settle_ties,
                      _stable_order, empty_mesh, refine_scale)
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
-from .features import sharp_polydata
+from .features import sharp_polydata_lent
 from .refine import _certified, _refine_on_edges
 from .kernels import place_vertices
 from .slab import _SlabJob, run_slabs
@@ -244,7 +244,13 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     del nodes, t, axis
     if inner.size:
         _centre_inner(p0, faces, inner)
-    out = sharp_polydata(solid, p0, faces, origin, h) if features else triangle_surface(p0, faces)
+    if features:
+        # handed over, not kept: the pass frees the points once its own are made
+        lent = [p0, faces]
+        del p0, faces
+        out = sharp_polydata_lent(solid, lent, origin, h)
+    else:
+        out = triangle_surface(p0, faces)
     if edge_ids:
         out.point_data["edge_id"] = ids
     out.field_data["voxel_size"] = np.array([h])

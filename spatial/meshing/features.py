@@ -84,7 +84,7 @@ import numpy as np
 from .feature_collapse import finish
 from .feature_kernels import _cells, _facing_kernel, _newton_step, _nodes, _solve_cells
 
-__all__ = ["sharpen", "sharp_polydata", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
+__all__ = ["sharpen", "sharp_polydata", "sharp_polydata_lent", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
 #: A triangle whose normal makes ``cos < COS_CANDIDATE`` with one of its vertex normals marks its cell.
 COS_CANDIDATE = 0.97
@@ -155,10 +155,20 @@ def sharpen(solid, points, faces, origin, h):
     >>> int((m.point_data["feature_rank"] == 3).sum())
     8
     """
+    return _sharpen(solid, [points, faces], origin, h)
+
+
+def _sharpen(solid, lent, origin, h):
+    """`sharpen` of ``lent = [points, faces]``, a list it empties: when the caller keeps no other
+    reference to the points, they are freed once the fans' points are made, before the last stage
+    (at N=1024, some 180 MB of the pass's peak)."""
     from implicit.facets import FacetField
 
+    points, faces = lent
+    lent.clear()
     pts = np.asarray(points, dtype=np.float64)
     f = np.ascontiguousarray(faces)
+    del points, faces
     if f.dtype not in (np.int32, np.int64):  # the mesher's int32 triangles are read as they are
         f = f.astype(np.int64)
     n = pts.shape[0]
@@ -228,14 +238,16 @@ def sharpen(solid, points, faces, origin, h):
         feature[gone[gone >= 0]] = False
     else:
         return plain()
+    # (`newp`, unless no fan was made, is this pass's own array: the points used are gathered in it)
+    own = newp is not pts
+    del plain, pts
     drop = np.zeros(f.shape[0], np.bool_)
     drop[tri[feature[tcell]]] = True
     # the fans' two extra triangles each are taken back by collapsing a polygon vertex into the feature
     # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
     # corner of the fan that replaced the cell's triangles) is dropped
-    # (`newp`, unless no fan was made, is this pass's own array: the points used are gathered in it)
     n_all = newp.shape[0]
-    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=newp is not pts,
+    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=own,
                                       dtype=np.int32 if n_all < 2 ** 31 else np.int64)
     # the feature vertices come last, in the order of their cells
     kept = used[n:]
@@ -448,9 +460,16 @@ def sharp_polydata(solid, points, faces, origin, h):
     both attach: ``feature_rank`` and ``feature_facets`` per point, the facet
     names and the count of feature cells.
     """
+    return sharp_polydata_lent(solid, [points, faces], origin, h)
+
+
+def sharp_polydata_lent(solid, lent, origin, h):
+    """`sharp_polydata` of ``lent = [points, faces]``, a list it empties, so that the pass can free
+    the points once it no longer needs them (the caller keeps no other reference to them)."""
     from ..files.surface import triangle_surface  # PolyData, or arrays for a job that only writes them
 
-    sharp = sharpen(solid, points, faces, origin, h)
+    sharp = _sharpen(solid, lent, origin, h)
+    del lent
     out = triangle_surface(sharp["points"], sharp["faces"])
     out.point_data["feature_rank"] = sharp["feature_rank"]
     out.point_data["feature_facets"] = sharp["feature_facets"]
