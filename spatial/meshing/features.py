@@ -81,6 +81,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .arrays import _release_free_memory
 from .feature_collapse import finish
 from .feature_kernels import _cells, _facing_kernel, _newton_step, _nodes, _solve_cells
 
@@ -213,6 +214,7 @@ def _sharpen(solid, lent, origin, h):
     normal *= np.where(np.einsum("ij,ij->i", normal, vn) < 0, -1.0, 1.0)[:, None]
     del vn, at_verts
     exact = (normal, index)
+    _release_free_memory()    # the facets' temporaries, freed but kept by the heap, before the fans' points
 
     # -- 3. QEF per cell ---------------------------------------------------------------------
     # (with the faces in each cell, most frequent first: the labels, and the surfaces to solve on; and

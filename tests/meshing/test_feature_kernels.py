@@ -1,0 +1,123 @@
+"""The feature pass's compiled stages against numpy references, and how the mesher hands it its arrays."""
+
+import numpy as np
+import pytest
+from parts import benchmark_part
+
+from spatial.meshing import mesh
+from spatial.meshing.feature_collapse import finish
+from spatial.meshing.feature_kernels import _candidate_cells, _group_cells, _sorted_unique
+from spatial.meshing.features import COS_CANDIDATE, sharp_polydata_lent, sharpen
+
+
+def _grid_mesh(n=6, seed=0):
+    """A plain marching-cubes mesh of the benchmark part, as the mesher hands it to the pass."""
+    from spatial.meshing import features
+
+    got = {}
+    real = features._sharpen
+
+    def spy(solid, lent, origin, h):
+        got.update(points=lent[0].copy(), faces=lent[1].copy(), origin=np.array(origin), h=float(h))
+        return real(solid, lent, origin, h)
+
+    features._sharpen = spy
+    try:
+        mesh(benchmark_part(), resolution=8 * n, progress=False)
+    finally:
+        features._sharpen = real
+    return got
+
+
+@pytest.fixture(scope="module")
+def captured():
+    return _grid_mesh()
+
+
+def test_sorted_unique_is_numpy_unique():
+    rng = np.random.default_rng(3)
+    for size in (0, 1, 7, 1000):
+        a = rng.integers(-50, 50, size)
+        assert np.array_equal(_sorted_unique(a.copy()), np.unique(a))
+
+
+def _runs(keys):
+    start = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
+    return np.r_[start, keys.shape[0]].astype(np.int64), keys[start].astype(np.int64)
+
+
+def test_group_cells_by_runs_is_the_stable_sort():
+    """Cells whose triangles come in several runs (not side by side) are grouped as a stable sort does."""
+    rng = np.random.default_rng(7)
+    n, m = 60, 400
+    faces = rng.integers(0, n, (m, 3)).astype(np.int32)
+    keys = np.repeat(rng.integers(0, 40, 150), rng.integers(1, 5, 150))[:m]
+    faces = faces[:keys.shape[0]]
+    start, rkey = _runs(keys)
+    assert np.unique(keys).shape[0] < rkey.shape[0]        # some cell is split into several runs
+    cells = np.unique(rkey[rng.random(rkey.shape[0]) < 0.3])
+    index = np.empty(n, np.int32)
+    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(start, rkey.copy(), rkey.shape[0], cells, faces, n,
+                                                                 index)
+    inside = np.isin(keys, cells)
+    order = np.argsort(keys[inside], kind="stable")
+    want_tri = np.flatnonzero(inside)[order]
+    assert np.array_equal(tri, want_tri)
+    assert np.array_equal(tcell, np.searchsorted(cells, keys[want_tri]))
+    pairs = np.unique(np.stack([np.repeat(tcell, 3), faces[tri].reshape(-1)], axis=1), axis=0)
+    assert np.array_equal(pcell, pairs[:, 0]) and np.array_equal(pvert, pairs[:, 1])
+    assert np.array_equal(starts, np.searchsorted(pcell, np.arange(cells.shape[0] + 1)))
+    assert np.array_equal(verts, np.unique(pvert)) and np.array_equal(verts[pinv], pvert)
+    want_index = np.full(n, -1)
+    want_index[verts] = np.arange(verts.shape[0])
+    assert np.array_equal(index, want_index)
+
+
+def test_candidate_runs_follow_the_triangles_cells(captured):
+    """Each run holds consecutive triangles of one cell, keyed as the cells' lexicographic order."""
+    pts, faces, origin, h = captured["points"], captured["faces"], captured["origin"], captured["h"]
+    n, m = pts.shape[0], faces.shape[0]
+    at = np.zeros(n, np.bool_)
+    vn, start, rkey, marked = np.zeros((n, 3)), np.empty(m + 1, np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
+    n_runs, lo, s = _candidate_cells(pts, faces, origin, h, COS_CANDIDATE, at, vn, start, rkey, marked)
+    cell = np.floor(((pts[faces[:, 0]] + pts[faces[:, 1]] + pts[faces[:, 2]]) * (1.0 / 3.0) - origin) / h)
+    cell = cell.astype(np.int64) - lo
+    keys = (cell[:, 0] * s + cell[:, 1]) * s + cell[:, 2]
+    want_start, want_key = _runs(keys)
+    assert n_runs == want_key.shape[0]
+    assert np.array_equal(start[:n_runs + 1], want_start) and np.array_equal(rkey[:n_runs], want_key)
+    # the box's faces and the drills' rims give candidate runs, far fewer than all
+    assert 0 < marked[:n_runs].sum() < n_runs // 2
+    assert np.allclose(np.linalg.norm(vn, axis=1), 1.0)
+
+
+def test_finish_into_int32_and_in_place_is_the_same(captured):
+    sharp = sharpen(benchmark_part(), captured["points"], captured["faces"], captured["origin"], captured["h"])
+    assert sharp["faces"].dtype == np.int32 and sharp["feature_cells"] > 0
+    rng = np.random.default_rng(1)
+    pts = rng.random((40, 3))
+    faces = rng.integers(0, 36, (30, 3))
+    drop = rng.random(30) < 0.3
+    new = rng.integers(0, 40, (6, 3))
+    ref = finish(pts, faces, drop, new, 36)
+    work = pts.copy()
+    got = finish(work, faces, drop, new, 36, dtype=np.int32, overwrite_points=True)
+    assert got[0].dtype == np.int32 and np.array_equal(got[0], ref[0])
+    assert np.array_equal(got[1], ref[1]) and got[2] == ref[2]
+    assert np.array_equal(got[3], ref[3]) and np.shares_memory(got[3], work)
+    with pytest.raises(ValueError, match="overwrite_points"):
+        finish(pts.astype(np.float32), faces, drop, new, 36, overwrite_points=True)
+    with pytest.raises(ValueError, match="dtype"):
+        finish(pts, faces, drop, new, 36, dtype=np.int16)
+
+
+def test_sharpen_leaves_its_inputs_and_lent_arrays_are_taken(captured):
+    pts, faces = captured["points"].copy(), captured["faces"].copy()
+    sharpen(benchmark_part(), pts, faces, captured["origin"], captured["h"])
+    assert np.array_equal(pts, captured["points"]) and np.array_equal(faces, captured["faces"])
+    lent = [pts, faces]
+    out = sharp_polydata_lent(benchmark_part(), lent, captured["origin"], captured["h"])
+    assert lent == [] and out.n_cells > 0
+    m = mesh(benchmark_part(), resolution=48, progress=False)
+    assert m.regular_faces.dtype == np.int32
+    assert int((m.point_data["feature_rank"] == 3).sum()) > 0
