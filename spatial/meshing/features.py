@@ -39,10 +39,15 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    many triangles as the plain one.
 
 The stages run as a few compiled functions (`feature_kernels`: the node
-tests, the candidate cells grouped by a hash probe and a counting sort, the
-QEF solved by Jacobi rotations per cell with the labels and the patch
-borders; `feature_collapse.finish`), between the calls into the solid's
-facets, which stay numpy.
+tests, the candidate cells found by runs of one cell's triangles and grouped
+by one hash probe per run and a counting sort, the QEF solved by Jacobi
+rotations per cell with the labels and the patch borders;
+`feature_collapse.finish`), between the calls into the solid's facets, which
+stay numpy.  Their arrays over every vertex or triangle are made by numpy,
+which asks the system for huge pages (a kernel's own allocation is faulted in
+4 kB at a time: about a third of the pass's CPU at N=512 was system time),
+and the mesher lends the pass its points (`sharp_polydata_lent`), freed as
+soon as the fans' points are made.
 
 Each vertex carries ``feature_rank`` (0, 2 or 3) and ``feature_facets`` (up
 to three face indices into the field data ``facet_names``; -1 unused), from
