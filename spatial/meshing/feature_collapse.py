@@ -126,9 +126,8 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
         raise ValueError(f"dtype: expected numpy.int32 or numpy.int64, got {dtype}")
     if dtype == np.int32 and n_p >= 2 ** 31:
         raise ValueError(f"dtype: int32 triangles cannot index {n_p} points")
-    # the arrays over every point or triangle are made here, by numpy, which asks the system for huge
-    # pages (allocated in the kernel, they would be faulted in 4 kB at a time); the results are cut to
-    # their length from bounds (2 triangles per collapse, the points not used)
+    # the arrays over every point or triangle are made here and handed to the kernel; the results are cut
+    # to their length from bounds (2 triangles per collapse, the points not used)
     ix = np.int32 if n_p < 2 ** 31 - 1 else np.int64
     out = np.empty((f.shape[0] - int(np.count_nonzero(drop)) + new.shape[0], 3), dtype)
     # (the points are gathered forwards, each to a row at or before its own: in place is safe)

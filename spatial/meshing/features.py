@@ -43,11 +43,10 @@ tests, the candidate cells found by runs of one cell's triangles and grouped
 by one hash probe per run and a counting sort, the QEF solved by Jacobi
 rotations per cell with the labels and the patch borders;
 `feature_collapse.finish`), between the calls into the solid's facets, which
-stay numpy.  Their arrays over every vertex or triangle are made by numpy,
-which asks the system for huge pages (a kernel's own allocation is faulted in
-4 kB at a time: about a third of the pass's CPU at N=512 was system time),
-and the mesher lends the pass its points (`sharp_polydata_lent`), freed as
-soon as the fans' points are made.
+stay numpy.  Their arrays over every vertex or triangle are made by the
+caller, as small as they can be (int8 axes, int32 indices and triangles, the
+exact normals only where they are needed), and the mesher lends the pass its
+points (`sharp_polydata_lent`), freed as soon as the fans' points are made.
 
 Each vertex carries ``feature_rank`` (0, 2 or 3) and ``feature_facets`` (up
 to three face indices into the field data ``facet_names``; -1 unused), from
@@ -190,8 +189,8 @@ def _sharpen(solid, lent, origin, h):
     m = f.shape[0]
 
     # -- 0. vertices on lattice edges lying in a face ------------------------------------------
-    # (the pass's arrays over every vertex or triangle are made here by numpy, which asks the system for
-    # huge pages: allocated inside the kernels, they would be faulted in 4 kB at a time)
+    # (the pass's arrays over every vertex or triangle are made here, by numpy, and handed to the kernels:
+    # their sizes and types are chosen in one place)
     at_node, axis = np.empty(n, np.bool_), np.empty(n, np.int8)
     border = _nodes(pts, f, origin, float(h), AT_NODE, at_node, axis)
     pts, moved = _off_flat_edges(solid, pts, border, axis, origin, float(h))
