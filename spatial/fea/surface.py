@@ -2,11 +2,12 @@
 
 Raw marching-cubes surfaces hold triangles with angles far below one degree;
 a tetrahedral mesher that keeps the surface turns them into slivers.  This
-module cleans such a surface, remeshes it to a uniform target edge length by
-clustering (pyacvd), projects the new vertices back onto the solid's zero set
-with Newton steps along the gradient, and snaps vertices onto the sharp
-feature curves and onto the corners where faces of the CSG tree meet (the
-faces come from `spatial.fea_facets.FacetField`).
+module remeshes the solid's feature mesh (`spatial.fea.surface_start`) to a
+uniform target edge length by clustering (pyacvd), projects the new vertices
+back onto the solid's zero set with Newton steps along the gradient, and snaps
+vertices onto the sharp feature curves and onto the corners where faces of the
+CSG tree meet (the faces come from `spatial.fea.facets.FacetField`; the
+corners from the feature mesh, `spatial.fea.surface_corners`).
 
 References
 ----------
@@ -28,7 +29,7 @@ from .facets import (FacetField, facet_field, independent_facets, project_to_sur
                      value_and_gradient)
 from .surface_corners import exact_corners, snap_exact_corners
 from .surface_quality import (SurfaceQuality, _deviation, _edges, _is_closed_manifold, _normals, _polydata,  # noqa: F401
-                              _triangle_angles, mesh_faces, self_intersections, surface_quality)
+                              _triangle_angles, folded_triangles, mesh_faces, self_intersections, surface_quality)
 
 __all__ = [
     "FacetField",
@@ -90,6 +91,7 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     sets[:, 0] = dec
     sets[pairs[:, 0], 1 + rank] = pairs[:, 1]
     moving = np.unique(pairs[:, 0])
+    sets[moving] = _crossing_sets(ff, pts[moving], sets[moving], fvals[:, moving])
     new = solve_on_facets(ff, pts[moving], sets[moving])
     # Reject moves that are too far or leave the surface (the facets meet elsewhere).
     move = np.linalg.norm(new - pts[moving], axis=1)
@@ -97,6 +99,47 @@ def _snap_features(ff: FacetField, points, faces, size, fixed, far=False):
     ok = (move < 0.8 * size) & (off < 1e-6 * max(size, 1e-12) + 1e-9) & np.isfinite(new).all(axis=1)
     moving, new = moving[ok], new[ok]
     return _apply_snaps(pts, faces, moving, new)
+
+
+def _on_edges(ff: FacetField, pts, fv, tol):
+    """Whether each point lies on two crossing facets, ``(n,)`` bool.
+
+    Coplanar faces of solids that touch (the bottoms of two boxes side by side)
+    are both 0 all over their common plane: a point on them is on an edge only
+    when a third, crossing facet passes there too (`independent_facets`).
+    """
+    near = np.abs(fv) < tol
+    on = near.sum(axis=0) >= 2
+    idx = np.flatnonzero(on)
+    if idx.size:
+        on[idx] = independent_facets(ff, pts[idx], near[:, idx], count=2)[:, 1] >= 0
+    return on
+
+
+def _crossing_sets(ff: FacetField, pts, sets, fv, parallel=0.99):
+    """`sets` ``(n, 3)`` without the facets parallel to a point's own one (slot 0) that it lies on already.
+
+    A point on the coplanar faces of two touching solids would otherwise be solved onto two parallel
+    planes (no edge there) instead of onto the crossing facet beside it.  The facets kept move up.
+    """
+    out = sets.copy()
+    rows = np.arange(len(pts))
+    g0 = ff.gradients_of(pts, sets[:, 0])
+    g0 /= np.maximum(np.linalg.norm(g0, axis=1), 1e-300)[:, None]
+    scale = max(float(np.abs(pts).max(initial=0.0)), 1.0)
+    for j in (1, 2):
+        used = out[:, j] >= 0
+        if not used.any():
+            continue
+        gj = ff.gradients_of(pts[used], out[used, j])
+        cos = np.abs(np.einsum("ij,ij->i", gj, g0[used])) / np.maximum(np.linalg.norm(gj, axis=1), 1e-300)
+        on = np.abs(fv[out[used, j], rows[used]]) < 1e-9 * scale
+        drop = np.flatnonzero(used)[(cos > parallel) & on]
+        out[drop, j] = -1
+    # keep the used slots first
+    order = np.argsort(out[:, 1:] < 0, axis=1, kind="stable")
+    out[:, 1:] = np.take_along_axis(out[:, 1:], order, axis=1)
+    return out
 
 
 def _apply_snaps(pts, faces, moving, new):
@@ -182,14 +225,16 @@ def _snap_corners(ff: FacetField, points, faces, size, tol):
     return _apply_snaps(pts, faces, vert[pick], corner[pick])
 
 
-def _flip_across_features(ff: FacetField, points, faces, fixed, evaluated=None):
+def _flip_across_features(ff: FacetField, points, faces, fixed, evaluated=None, chords=False):
     """Flip edges that cross a feature curve between two vertices lying on it.
 
     An edge ``(a, b)`` whose ends are decided by different facets and do not
     lie together on one feature, and whose two opposite vertices ``c``, ``d``
     lie together on one feature curve (two common facets), is replaced by
     ``(c, d)``, which then runs along the feature.  Flips that would fold a
-    triangle are skipped.  `evaluated` is ``ff(points)`` when the caller has it.
+    triangle are skipped.  `evaluated` is ``ff(points)`` when the caller has it.  With `chords`, a
+    flip is made only when the midpoint of ``(c, d)`` lies on their common facets within a tenth of
+    its length.
     Returns new faces.
     """
     _, dec, fv = ff(points) if evaluated is None else evaluated
@@ -219,6 +264,16 @@ def _flip_across_features(ff: FacetField, points, faces, fixed, evaluated=None):
     a, b, c, d, f1, f2 = (x[keep] for x in (a, b, c, d, f1, f2))
     if a.size == 0:
         return faces
+    if chords:
+        # The chord (c, d) must follow the feature: on a face bent at the vertices of a polygon (a gear's
+        # flanks) two nodes of one rim may share the face's two facets across a bend.
+        mid = 0.5 * (points[c] + points[d])
+        common = near[:, c] & near[:, d]
+        off = np.max(np.abs(ff.facet_values(mid)) * common, axis=0)
+        follows = off <= 0.1 * np.linalg.norm(points[c] - points[d], axis=1)
+        a, b, c, d, f1, f2 = (x[follows] for x in (a, b, c, d, f1, f2))
+        if a.size == 0:
+            return faces
     # Half-edge a->b lies in f1 as (a, b, c); f2 holds (b, a, d).  New: (c, a, d), (d, b, c).
     n_old = _normals(points, faces)
     t1 = np.stack([c, a, d], axis=1)
@@ -343,100 +398,20 @@ def _gradient_step(solid):
     return 1e-7 * max(float(np.max(ext)), 1.0)
 
 
-def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
-                    check_intersections=True, size_field=None, split_sides=False):
-    """A closed, outward, uniform triangle surface of target edge length `size`.
+def _crossings(surface, solid):
+    """Triangles of `surface` that pierce another, plus (given the solid) those turned over onto their face."""
+    crossing = self_intersections(surface)
+    if solid is not None:
+        crossing += folded_triangles(solid, np.asarray(surface.points), mesh_faces(surface))
+    return crossing
 
-    The pipeline: merge duplicate points and drop degenerate triangles;
-    remesh by clustering (pyacvd) to about ``1.15 area / size^2`` vertices;
-    repair with MeshFix when the result is not closed and manifold; then,
-    when a `Solid` is known, project every vertex onto its zero set (Newton
-    steps along the gradient), relax vertices tangentially and snap vertices
-    onto the sharp edges where two facets of the CSG tree meet
-    (`FacetField`).  The result is outward-oriented.
 
-    Parameters
-    ----------
-    solid_or_mesh : Solid or pyvista.PolyData
-        The solid (meshed first with `spatial.mesh`) or a closed surface mesh
-        of it, e.g. from marching cubes.
-    size : float
-        Target edge length.
-    solid : Solid, optional
-        The solid a mesh came from; enables projection and feature snapping.
-    max_deviation : float, optional
-        Largest allowed ``|f|`` at vertices and face centres; a `ValueError`
-        is raised when the result deviates more.  Needs a solid.
-    voxel_size : float, optional
-        Cell size used to mesh a `Solid` first (default ``size / 4``).
-    check_intersections : bool
-        Test the result for self-intersecting triangles (pymeshfix) and raise
-        when there are any.
-    size_field : spatial.fea.graded.SizeField, optional
-        A target edge length that varies over the surface (at most `size`):
-        the clusters are weighted by it (`spatial.fea.graded`).
-    split_sides : bool
-        Snap onto the sharp corners of extruded polygons too (`FacetField`).
+def _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, chords):
+    """Cluster `mesh` to edges of about `size`, then put the nodes on `solid`'s faces, edges and corners
+    (`chords`: flips only onto chords that follow a feature, for the feature mesh's start).
 
-    Returns
-    -------
-    pyvista.PolyData
-        Triangles; ``field_data`` holds ``max_deviation`` (when a solid is
-        known) and ``snapped_vertices``.
-
-    Raises
-    ------
-    TypeError
-        When `solid_or_mesh` is neither a Solid nor a PolyData.
-    ValueError
-        When `size` is not positive, the deviation exceeds `max_deviation`,
-        or the result intersects itself.
-
-    Examples
-    --------
-    >>> import pyvista as pv
-    >>> from implicit import sphere
-    >>> s = surface_for_fea(pv.Sphere(radius=1.0, theta_resolution=60, phi_resolution=60),
-    ...                     size=0.3, solid=sphere(1.0))
-    >>> q = surface_quality(s, sphere(1.0))
-    >>> q.closed, bool(q.min_angle > 20), bool(q.max_deviation < 0.03)
-    (True, True, True)
+    Returns the points, the triangles (outward) and the number of nodes snapped onto an edge or corner.
     """
-    import pyvista as pv
-
-    size = as_positive(size, "size")
-    if isinstance(solid_or_mesh, Solid):
-        if solid is not None and solid is not solid_or_mesh:
-            raise ValueError("solid: give the solid once (as the first argument or as solid=)")
-        solid = solid_or_mesh
-        mesh = None
-    elif isinstance(solid_or_mesh, pv.PolyData):
-        mesh = corner_mesh = solid_or_mesh
-    else:
-        raise TypeError(f"solid_or_mesh: expected a Solid or a pyvista.PolyData, got {type(solid_or_mesh).__name__}")
-    if solid is not None and not isinstance(solid, Solid):
-        raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
-    if max_deviation is not None:
-        max_deviation = as_positive(max_deviation, "max_deviation")
-        if solid is None:
-            raise ValueError("max_deviation: needs the solid (solid=) to measure the deviation")
-    if voxel_size is not None:
-        voxel_size = as_positive(voxel_size, "voxel_size")
-    if mesh is None:
-        if not solid.is_bounded or solid.is_empty_bounds:
-            raise ValueError("solid_or_mesh: expected a bounded, non-empty solid")
-        from ..meshing.boundary import mesh as _mesh_solid
-
-        h = voxel_size or (size if size_field is None else size_field.smallest) / 4.0
-        # The plain mesh of the solid grown by a twentieth of a voxel (touching faces of a union are 0
-        # inside the part: a crack otherwise); the feature mesh as the start: see surface_corners.
-        from implicit.modifiers import offset as _offset
-
-        mesh = _mesh_solid(_offset(solid, 0.05 * h), voxel_size=h, features=False)
-        corner_mesh = _mesh_solid(solid, voxel_size=h, features=True)  # its corners become nodes
-    if mesh.n_cells == 0:
-        raise ValueError("solid_or_mesh: the mesh has no cells")
-
     import pyacvd
 
     pts, faces = _clean_input(mesh)
@@ -475,32 +450,147 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
             snapped += count
             # Keep vertices that sit on two facets; relax the others.
             evaluated = ff(pts)
-            fixed = (np.abs(evaluated[2]) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
-            faces = _flip_across_features(ff, pts, faces, fixed, evaluated)
+            fixed = _on_edges(ff, pts, evaluated[2], 1e-7 * max(size, 1.0))
+            faces = _flip_across_features(ff, pts, faces, fixed, evaluated, chords)
             pts = _tangential_relax(solid, pts, faces, fixed)
         tol = 1e-7 * max(size, 1.0)
         pts, count = _snap_corners(ff, pts, faces, size, tol)
         snapped += count
         if count:
             evaluated = ff(pts)
-            fixed = (np.abs(evaluated[2]) < tol).sum(axis=0) >= 2
-            faces = _flip_across_features(ff, pts, faces, fixed, evaluated)
+            fixed = _on_edges(ff, pts, evaluated[2], tol)
+            faces = _flip_across_features(ff, pts, faces, fixed, evaluated, chords)
             pts = _tangential_relax(solid, pts, faces, fixed)
         pts, count, _ = snap_exact_corners(pts, faces, exact_corners(ff, corner_mesh), size, tol, _apply_snaps,
                                            lambda p, f, held: _tangential_relax(solid, p, f, held), fixed)
         snapped += count
+    return pts, faces, snapped
+
+
+def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
+                    check_intersections=True, size_field=None, split_sides=False, start=None):
+    """A closed, outward, uniform triangle surface of target edge length `size`.
+
+    The pipeline: mesh a `Solid` with its sharp features (`spatial.mesh`,
+    ``features=True``); merge duplicate points and drop degenerate triangles;
+    remesh by clustering (pyacvd) to about ``1.15 area / size^2`` vertices;
+    repair with MeshFix when the result is not closed and manifold; then,
+    when a `Solid` is known, project every vertex onto its zero set (Newton
+    steps along the gradient), relax vertices tangentially and snap vertices
+    onto the sharp edges where two facets of the CSG tree meet
+    (`FacetField`).  The result is outward-oriented.
+
+    Parameters
+    ----------
+    solid_or_mesh : Solid or pyvista.PolyData
+        The solid (meshed first with `spatial.mesh`) or a closed surface mesh
+        of it, e.g. from marching cubes.
+    size : float
+        Target edge length.
+    solid : Solid, optional
+        The solid a mesh came from; enables projection and feature snapping.
+    max_deviation : float, optional
+        Largest allowed ``|f|`` at vertices and face centres; a `ValueError`
+        is raised when the result deviates more.  Needs a solid.
+    voxel_size : float, optional
+        Cell size used to mesh a `Solid` first (default ``size / 4``).
+    check_intersections : bool
+        Test the result for self-intersecting triangles (pymeshfix) and raise
+        when there are any.
+    size_field : spatial.fea.graded.SizeField, optional
+        A target edge length that varies over the surface (at most `size`):
+        the clusters are weighted by it (`spatial.fea.graded`).
+    split_sides : bool
+        Snap onto the sharp corners of extruded polygons too (`FacetField`).
+    start : {"features", "plain"}, optional
+        The marching-cubes mesh a `Solid` is clustered from: its feature mesh
+        (`spatial.mesh(..., features=True)`, the default for a uniform size),
+        or the plain mesh of the solid grown by a twentieth of a voxel (the
+        default with a graded `size_field`: the weighted clusters of the gear's
+        tooth roots turned a triangle over on the feature mesh).  Either way the
+        feature mesh's corners become nodes.  A surface from the feature mesh
+        that intersects itself is made again from the plain mesh
+        (``field_data["start"]`` says which one was used).
+
+    Returns
+    -------
+    pyvista.PolyData
+        Triangles; ``field_data`` holds ``max_deviation`` (when a solid is
+        known) and ``snapped_vertices``.
+
+    Raises
+    ------
+    TypeError
+        When `solid_or_mesh` is neither a Solid nor a PolyData.
+    ValueError
+        When `size` is not positive, the deviation exceeds `max_deviation`,
+        or the result intersects itself.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> from implicit import sphere
+    >>> s = surface_for_fea(pv.Sphere(radius=1.0, theta_resolution=60, phi_resolution=60),
+    ...                     size=0.3, solid=sphere(1.0))
+    >>> q = surface_quality(s, sphere(1.0))
+    >>> q.closed, bool(q.min_angle > 20), bool(q.max_deviation < 0.03)
+    (True, True, True)
+    """
+    import pyvista as pv
+
+    size = as_positive(size, "size")
+    if isinstance(solid_or_mesh, Solid):
+        if solid is not None and solid is not solid_or_mesh:
+            raise ValueError("solid: give the solid once (as the first argument or as solid=)")
+        solid = solid_or_mesh
+        mesh = None
+    elif isinstance(solid_or_mesh, pv.PolyData):
+        mesh = corner_mesh = solid_or_mesh
+        kind = "given"
+    else:
+        raise TypeError(f"solid_or_mesh: expected a Solid or a pyvista.PolyData, got {type(solid_or_mesh).__name__}")
+    if solid is not None and not isinstance(solid, Solid):
+        raise TypeError(f"solid: expected a Solid, got {type(solid).__name__}")
+    if max_deviation is not None:
+        max_deviation = as_positive(max_deviation, "max_deviation")
+        if solid is None:
+            raise ValueError("max_deviation: needs the solid (solid=) to measure the deviation")
+    if voxel_size is not None:
+        voxel_size = as_positive(voxel_size, "voxel_size")
+    if start is None:
+        start = "plain" if size_field is not None and not size_field.uniform else "features"
+    if start not in ("features", "plain"):
+        raise ValueError(f"start: expected 'features' or 'plain', got {start!r}")
+    if mesh is None:
+        if not solid.is_bounded or solid.is_empty_bounds:
+            raise ValueError("solid_or_mesh: expected a bounded, non-empty solid")
+        from .surface_start import start_mesh
+
+        h = voxel_size or (size if size_field is None else size_field.smallest) / 4.0
+        # One marching-cubes mesh: the feature mesh starts the clustering and its corners become nodes.
+        mesh, corner_mesh, kind = start_mesh(solid, h, start)
+    if mesh.n_cells == 0:
+        raise ValueError("solid_or_mesh: the mesh has no cells")
+
+    pts, faces, snapped = _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, kind == "features")
     result = _polydata(pts, faces)
+    crossing = _crossings(result, solid) if check_intersections or kind == "features" else 0
+    if crossing and kind == "features":
+        # Clustered from the feature mesh, the surface pierces itself: the plain start at the same size.
+        mesh, corner_mesh, kind = start_mesh(solid, h, "plain", corner_mesh)
+        pts, faces, snapped = _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, kind == "features")
+        result = _polydata(pts, faces)
+        crossing = _crossings(result, solid) if check_intersections else 0
     result.field_data["snapped_vertices"] = np.array([snapped])
+    result.field_data["start"] = np.array([kind])
     if solid is not None:
         dev = _deviation(solid, pts, faces)
         result.field_data["max_deviation"] = np.array([dev])
         if max_deviation is not None and dev > max_deviation:
             raise ValueError(f"max_deviation: the remeshed surface deviates {dev:.3g} from the solid, "
                              f"more than {max_deviation:.3g}; use a smaller size")
-    if check_intersections:
-        crossing = self_intersections(result)
-        if crossing:
-            raise ValueError(f"size: the remeshed surface has {crossing} self-intersecting triangles at size "
-                             f"{size:g}; use a smaller size")
+    if crossing and check_intersections:
+        raise ValueError(f"size: the remeshed surface has {crossing} self-intersecting (or folded) triangles at size "
+                         f"{size:g}; use a smaller size")
     return result
 

@@ -7,20 +7,9 @@ spans three faces, which a coarse surface misses.  The feature mesh
 faces (`spatial.feature_edges`): each is solved exactly on those faces and
 the nearest node of the remeshed surface is moved onto it.
 
-The clustering starts from the plain mesh of the slightly grown solid, not
-from the feature mesh (asked for explicitly: `spatial.mesh` rebuilds features
-by default).  The feature mesh as the start was tried: the gear's surface
-then intersected itself (an edge flipped onto a chord between two nodes of
-its rim that cuts across the bends of a flank, one face bent at every vertex
-of its polygon: a flip refused when the chord's midpoint lies off the two
-faces by more than a tenth of its length cures it), a 10 mm beam remeshed
-at size 10 lost its edges without a self-intersection to call for a finer
-size (a retry when the surface's volume strays from the feature mesh's
-cures that), but the touching boxes of the tests still lost 6e-4 of their
-volume at size 2 (nodes on their coplanar bottom faces count as on two
-faces, so none is moved onto the real edge beside them), and the gear and
-the filleted bracket got tetrahedra under 10 degrees, with or without the
-flip check.
+The corners are read from the mesh the clustering starts from
+(`spatial.fea.surface_start`: the feature mesh itself, or beside the plain
+mesh of the grown solid where that is the start).
 """
 
 from __future__ import annotations
@@ -47,20 +36,19 @@ def exact_corners(ff: FacetField, mesh) -> np.ndarray:
     >>> c.shape, float(abs(c).max())
     ((8, 3), 0.5)
     """
-    from ..meshing import feature_edges
-
     if "feature_rank" not in mesh.point_data or "facet_names" not in mesh.field_data:
         return np.zeros((0, 3))
     # the mesh's faces are numbered as the tree numbers them, as are ff's (which may rename them)
     if len(mesh.field_data["facet_names"]) != len(ff.names):
         return np.zeros((0, 3))
-    curves = feature_edges(mesh)
-    sets = np.asarray(mesh.point_data["feature_facets"], dtype=np.int64)[curves.corner_vertices]
+    # The corners of `spatial.feature_edges`, read straight from the point data: its polylines are not needed.
+    corner = np.flatnonzero(np.asarray(mesh.point_data["feature_rank"]) == 3)
+    sets = np.asarray(mesh.point_data["feature_facets"], dtype=np.int64).reshape(-1, 3)[corner]
     rows = np.flatnonzero((sets >= 0).all(axis=1))
     if rows.shape[0] == 0:
         return np.zeros((0, 3))
     sets = sets[rows]
-    start = np.asarray(curves.corners, dtype=np.float64)[rows]
+    start = np.asarray(mesh.points, dtype=np.float64)[corner[rows]]
     c = solve_on_facets(ff, start, sets, iters=12)
     _, _, fv = ff(c)
     scale = max(float(np.abs(start).max()), 1.0)
