@@ -33,7 +33,7 @@ from implicit.solid import Solid, as_positive
 from .facets import FacetField
 from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
                       surface_for_fea)
-from .curved import curve_boundary
+from .curved import OFF_SURFACE, curve_boundary
 from .size_field import curvature_size
 from .resolve import resolving_field
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
@@ -312,7 +312,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     dev = _deviation(solid, nodes[bnodes], remap[bfaces])
     # Mid-edge nodes left on their chord (moving them would fold an element) are counted, not hidden.
     on_boundary = node_sets["surface"]
-    info["off_surface_nodes"] = int((np.abs(solid(nodes[on_boundary])) > 1e-6 * size).sum())
+    info["off_surface_nodes"] = int((np.abs(solid(nodes[on_boundary])) > OFF_SURFACE * size).sum())
     problems = []
     if cap_hit:
         problems.append(f"TetGen stopped at its Steiner-point cap ({cap} points); raise steiner_cap or size")
