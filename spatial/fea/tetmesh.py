@@ -33,7 +33,7 @@ from implicit.solid import Solid, as_positive
 from .facets import FacetField
 from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
                       surface_for_fea)
-from .curved import add_midnodes, project_midnodes
+from .curved import OFF_SURFACE, curve_boundary
 from .size_field import curvature_size
 from .resolve import resolving_field
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
@@ -171,7 +171,10 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     at `size`, or its enclosed volume misses the solid's by more than that
     tolerance (times `order`: a part as thin as `size`), the surface is
     remeshed finer (`size` / 1.25, / 1.25^2 ...) and ``info["surface_size"]``
-    says so.  ``info["seconds"]`` holds the wall-clock time of the stages
+    says so.  For order 2, a flat boundary element in the way of a curved edge (its corners on a
+    hole's rim) is removed so that every boundary mid-edge node lies on the surface with every
+    Jacobian proven positive: ``info["removed_for_curving"]`` counts them, ``info["off_surface_nodes"]``
+    the nodes still left on their chord.  ``info["seconds"]`` holds the wall-clock time of the stages
     (surface, tetgen, smoothing, checks).
 
     Examples
@@ -286,11 +289,13 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     if np.any(tet_volumes(nodes, elems) <= 0):
         raise ValueError("tet_mesh: an element is inverted after meshing (zero or negative volume)")
     tets = elems
-    n_corner = len(nodes)
     if order == 2:
-        nodes, tets, _ = add_midnodes(nodes, elems)
-        ff = FacetField(solid)
-        nodes = project_midnodes(solid, ff, nodes, tets, bfaces, n_corner, size)
+        # A mid node that cannot go onto the surface without folding an element may take a flat
+        # boundary element away with it (its two other sides become the boundary).
+        nodes, tets, elems, removed = curve_boundary(solid, FacetField(solid), nodes, elems, bfaces, size)
+        if removed:
+            info["removed_for_curving"] = removed
+            bfaces, belem, bside = boundary_faces(elems)
     ff = FacetField(solid)
     face_sets, node_sets = _name_sets(ff, nodes, bfaces, bside, belem, tets)
     quality = tet_quality(nodes, tets, min_dihedral=min_dihedral)
@@ -307,7 +312,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     dev = _deviation(solid, nodes[bnodes], remap[bfaces])
     # Mid-edge nodes left on their chord (moving them would fold an element) are counted, not hidden.
     on_boundary = node_sets["surface"]
-    info["off_surface_nodes"] = int((np.abs(solid(nodes[on_boundary])) > 1e-6 * size).sum())
+    info["off_surface_nodes"] = int((np.abs(solid(nodes[on_boundary])) > OFF_SURFACE * size).sum())
     problems = []
     if cap_hit:
         problems.append(f"TetGen stopped at its Steiner-point cap ({cap} points); raise steiner_cap or size")

@@ -1,4 +1,5 @@
-"""The gear at a size coarser than its tooth gap: a graded surface, tooth tips as nodes, solved by CalculiX."""
+"""The gear at sizes coarser than its tooth gap: a graded surface, tooth tips as nodes, the default quality
+(10 degrees, radius-edge 3), solved by CalculiX."""
 
 import os
 import runpy
@@ -15,17 +16,25 @@ assert shutil.which("ccx"), "CalculiX (ccx) is not on the PATH: make setup insta
 
 
 @pytest.fixture(scope="module")
-def gear_at_5():
-    ns = runpy.run_path(GEAR)
-    # 5 is 2.25 times the gap between two teeth (2.22): refused before the graded size
-    return ns, tet_mesh(ns["solid"], size=5.0, min_dihedral=MIN_DIHEDRAL, radius_edge=RADIUS_EDGE)
+def gear():
+    return runpy.run_path(GEAR)
 
 
-#: The smallest dihedral angle asked of the gear at size 5 (at 10 degrees, 4 to 7 elements at the
-#: tooth roots stay between 6.6 and 10: tet_mesh would refuse the mesh).
-MIN_DIHEDRAL = 5.0
-#: The largest radius-edge ratio asked (4 elements at the tooth roots reach 3.47 over the default 3).
-RADIUS_EDGE = 4.0
+@pytest.fixture(scope="module")
+def gear_at_5(gear):
+    # 5 is 2.25 times the gap between two teeth (2.22): refused before the graded size.  The default
+    # quality: tet_mesh raises MeshQualityError when an element misses it.
+    return gear, tet_mesh(gear["solid"], size=5.0)
+
+
+@pytest.fixture(scope="module")
+def gear_at_3(gear):
+    return gear, tet_mesh(gear["solid"], size=3.0)
+
+
+#: tet_mesh's defaults, checked again on the result.
+MIN_DIHEDRAL = 10.0
+RADIUS_EDGE = 3.0
 
 
 def test_gear_at_size_5_meshes_graded_with_tooth_tips_as_nodes(gear_at_5):
@@ -56,11 +65,23 @@ def test_gear_at_size_5_meshes_graded_with_tooth_tips_as_nodes(gear_at_5):
     assert len(FacetField(ns["solid"], split_sides=True).names) > len(FacetField(ns["solid"]).names)
 
 
-def test_gear_at_size_5_solves_and_its_reactions_balance_the_load(gear_at_5, tmp_path):
-    _, m = gear_at_5
-    deck = tmp_path / "gear5.inp"
+@pytest.mark.parametrize("size", [5, 3])
+def test_gear_solves_and_its_reactions_balance_the_load(size, request, tmp_path):
+    _, m = request.getfixturevalue(f"gear_at_{size}")
+    deck = tmp_path / f"gear{size}.inp"
     write_static_deck(m, deck, material="steel", fix=["cylinder_2.wall"], loads=[("extrude_0.side", (0.0, 500.0, 0.0))])
     grid, res = run_calculix(deck)
     reaction = np.asarray(grid.point_data["FORC"])[m.node_sets["cylinder_2.wall"]].sum(axis=0)
     np.testing.assert_allclose(reaction, [0.0, -500.0, 0.0], atol=0.1)
     assert res.max_von_mises > 0
+
+
+def test_gear_at_size_3_meshes_at_the_default_quality(gear_at_3):
+    _, m = gear_at_3
+    q = m.quality
+    print(f"gear at 3: {q.n_elements} elements, dihedral {q.min_dihedral:.2f}..{q.max_dihedral:.2f}, "
+          f"radius-edge {q.max_radius_edge:.2f}")
+    assert q.min_dihedral >= MIN_DIHEDRAL and q.max_dihedral <= 165.0 and q.max_radius_edge <= RADIUS_EDGE
+    assert m.info["problems"] == [] and m.info["volume_error"] < 0.0075 and m.info["surface_size"] <= 3.0
+    # the hub's bore and the key way are faces of their own
+    assert {"cylinder_2.wall", "box_3.+y"} <= set(m.face_sets)
