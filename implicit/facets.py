@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .facet_gradients import leaf_facets_with_gradients
+from .facet_prune import pruned_decide, subset_values
 from .profile_facets import polygon_runs, run_fields
 from .solid import Solid
 
@@ -21,6 +22,10 @@ __all__ = ["SMOOTH_KINDS", "FacetField", "facet_field"]
 #: vertices all lie on one such facet holds no sharp edge, however much its normals turn.
 #: (A cone is not among them: its rims are edges of its one facet.)
 SMOOTH_KINDS = frozenset({"box", "cylinder", "sphere", "torus", "capsule", "halfspace"})
+#: `FacetField.decide` prunes the tree per bin of points (`implicit.facet_prune`) from this many points
+#: and facets: below, the binning costs more than the leaves it saves.
+PRUNE_MIN_POINTS = 1024
+PRUNE_MIN_FACETS = 8
 
 
 # ---------------------------------------------------------------------------
@@ -226,6 +231,9 @@ class FacetField:
         ['cylinder_1.wall']
         """
         p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+        if p.shape[0] >= PRUNE_MIN_POINTS and len(self.names) >= PRUNE_MIN_FACETS:
+            # the same results, each operand evaluated only in the bins of points it may decide
+            return pruned_decide(self, p)
         return self._walk_decide(self.solid, p, [0])
 
     def _walk_decide(self, node, p, at):
@@ -253,6 +261,11 @@ class FacetField:
             return v - node.params["distance"], d
         start = at[0]
         at[0] += self._n_facets(node)
+        return self._leaf_decide(node, p, start)
+
+    def _leaf_decide(self, node, p, start):
+        """A leaf's field and deciding facet (its first facet is number `start`)."""
+        kind = node.kind
         if kind == "box" and not getattr(node, "_rr", 0.0):
             q = p - node._c
             up, down = q - node._h, -q - node._h
@@ -311,6 +324,31 @@ class FacetField:
                 vals[i] = vals[i] - node.params["distance"]
         else:
             vals.extend(_leaf_facets(node, p, self.split_sides)[1])
+
+    def values_of(self, points, which):
+        """Value of facet ``which[i, j]`` at point ``i``: shape ``which.shape`` (0 where out of range).
+
+        The same values as ``facet_values(points)[which[i, j], i]``, but only
+        the leaves of the facets asked for are evaluated, each at its own points.
+
+        Examples
+        --------
+        >>> from implicit import box, sphere
+        >>> ff = FacetField(box(1.0) | sphere(1.0, center=(3.0, 0.0, 0.0)))
+        >>> ff.values_of([[0.0, 0.0, 0.0], [3.0, 0.0, 2.0]], [[1, 0], [6, 6]]).tolist()
+        [[-0.5, -0.5], [1.0, 1.0]]
+        """
+        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+        w = np.asarray(which, dtype=np.int64)
+        if w.ndim == 1:
+            w = w[:, None]
+        if w.shape[0] != p.shape[0] or w.ndim != 2:
+            raise ValueError(f"which: expected one facet index (or one row) per point, got shape {w.shape}")
+        return subset_values(self, p, w).reshape(np.shape(which))
+
+    def _leaf_values(self, node, p):
+        """Every facet's field ``(k, n)`` of the leaf `node` (`facet_values`'s rows of it)."""
+        return _leaf_facets(node, p, self.split_sides)[1]
 
     def facet_gradients(self, points, step=1e-7):
         """Gradients of every facet field by central differences, shape ``(k, n, 3)``.
