@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Bins", "pruned_decide", "subset_values", "POINTS_PER_BIN", "MAX_BINS_PER_AXIS"]
+__all__ = ["Bins", "pruned_decide", "subset_values", "facet_order", "POINTS_PER_BIN", "MAX_BINS_PER_AXIS"]
 
 #: Target number of points per bin of the grid the walk is pruned on.
 POINTS_PER_BIN = 64
@@ -281,13 +281,27 @@ def subset_values(ff, points, which):
     w = np.asarray(which, dtype=np.int64)
     rows, cols = np.nonzero((w >= 0) & (w < len(ff.names)))
     out = np.zeros(w.shape)
-    order = np.argsort(w[rows, cols], kind="stable")
+    order = facet_order(w[rows, cols], len(ff.names))
     rows, cols = rows[order], cols[order]
     fac = w[rows, cols]
     v = np.zeros(rows.shape[0])
     _subset_walk(ff, ff.solid, p, rows, fac, v, [0])
     out[rows, cols] = v
     return out
+
+
+def facet_order(fac, count):
+    """The stable order of the facet indices `fac` (all in ``0 .. count - 1``): numpy sorts 16-bit
+    integers stably by radix, several times faster than 64-bit ones.
+
+    Examples
+    --------
+    >>> facet_order(np.array([3, 1, 3, 0]), 4).tolist()
+    [3, 1, 0, 2]
+    """
+    if count <= np.iinfo(np.uint16).max:
+        fac = fac.astype(np.uint16)
+    return np.argsort(fac, kind="stable")
 
 
 def _subset_walk(ff, node, p, rows, fac, v, counter):

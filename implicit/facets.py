@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .facet_gradients import leaf_facets_with_gradients
-from .facet_prune import pruned_decide, subset_values
+from .facet_prune import facet_order, pruned_decide, subset_values
 from .profile_facets import polygon_runs, run_fields
 from .solid import Solid
 
@@ -386,7 +386,7 @@ class FacetField:
         rows, cols = np.nonzero((w >= 0) & (w < len(self.names)))
         out = np.zeros(w.shape + (3,))
         g = np.zeros((rows.shape[0], 3))
-        order = np.argsort(w[rows, cols], kind="stable")
+        order = facet_order(w[rows, cols], len(self.names))
         rows, cols = rows[order], cols[order]
         fac = w[rows, cols]
         self._grad_walk(self.solid, p, rows, fac, g, [0], step)
@@ -398,6 +398,10 @@ class FacetField:
         kind = node.kind
         start = counter[0]
         if kind in ("union", "intersection", "difference"):
+            lo, hi = np.searchsorted(fac, [start, start + self._n_facets(node)])
+            if hi == lo:                          # no facet of this subtree is asked for
+                counter[0] += self._n_facets(node)
+                return start, counter[0]
             for c in node.children:
                 self._grad_walk(c, p, rows, fac, g, counter, step)
         elif kind in ("complement", "family", "offset"):
@@ -405,7 +409,10 @@ class FacetField:
         elif kind == "affine":
             lo, hi = np.searchsorted(fac, [start, start + self._n_facets(node)])
             if hi > lo:
-                q = np.ascontiguousarray((p - node._offset) @ node._inv.T)
+                # only the rows asked for are mapped (each row's product does not depend on the others)
+                need = np.unique(rows[lo:hi])
+                q = np.empty_like(p)
+                q[need] = (p[need] - node._offset) @ node._inv.T
                 self._grad_walk(node.children[0], q, rows, fac, g, counter, step)
                 # q = inv (p - offset): the chain rule takes a gradient g(q) to g(q) inv
                 g[lo:hi] = g[lo:hi] @ (node._inv * node._factor)

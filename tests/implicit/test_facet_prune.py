@@ -91,7 +91,7 @@ def test_pruned_decide_is_the_full_walk_bit_for_bit(solid, seed, per_bin, split)
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(trees(), st.integers(0, 2 ** 16), st.booleans())
-def test_values_of_is_facet_values_at_the_facets_asked(solid, seed, split):
+def test_values_and_gradients_of_the_facets_asked_are_the_full_walks(solid, seed, split):
     ff = FacetField(solid, split_sides=split)
     p = _points(seed, 800)
     rng = np.random.default_rng(seed)
@@ -101,6 +101,10 @@ def test_values_of_is_facet_values_at_the_facets_asked(solid, seed, split):
     want = np.where(ok, fv[np.where(ok, which, 0), np.arange(p.shape[0])[:, None]], 0.0)
     got = ff.values_of(p, which)
     assert np.array_equal(got, want, equal_nan=True)
+    # and the gradients of the facets asked for, each subtree mapped at its own points only
+    _, g = ff.facets_with_gradients(p)
+    want = np.where(ok[:, :, None], g[np.where(ok, which, 0), np.arange(p.shape[0])[:, None]], 0.0)
+    assert np.array_equal(ff.gradients_of(p, which), want, equal_nan=True)
 
 
 def test_decide_falls_back_on_points_that_are_not_finite():
