@@ -23,9 +23,10 @@ __all__ = ["SMOOTH_KINDS", "FacetField", "facet_field"]
 #: (A cone is not among them: its rims are edges of its one facet.)
 SMOOTH_KINDS = frozenset({"box", "cylinder", "sphere", "torus", "capsule", "halfspace"})
 #: `FacetField.decide` prunes the tree per bin of points (`implicit.facet_prune`) from this many points
-#: and facets: below, the binning costs more than the leaves it saves.
+#: and leaves: below, sorting the points into bins costs more than the leaves it saves (the benchmark
+#: part's 4 leaves at 236,000 points: 0.11 s pruned, 0.09 s whole; the gear's 26 at 30,000: 0.015, 0.079).
 PRUNE_MIN_POINTS = 1024
-PRUNE_MIN_FACETS = 8
+PRUNE_MIN_LEAVES = 8
 
 
 # ---------------------------------------------------------------------------
@@ -132,7 +133,9 @@ class FacetField:
         self.split_sides = bool(split_sides)
         self.names: list[str] = []
         pts = np.zeros((1, 3))
-        self._walk(solid, pts, [], self.names, [0])
+        leaves = [0]
+        self._walk(solid, pts, [], self.names, leaves)
+        self._n_leaves = leaves[0]
         flags: list = []
         self._smooth_flags(solid, flags)
         #: Per facet: its zero set is smooth (a plane, sphere, torus, cylinder wall... `SMOOTH_KINDS`).
@@ -231,7 +234,7 @@ class FacetField:
         ['cylinder_1.wall']
         """
         p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
-        if p.shape[0] >= PRUNE_MIN_POINTS and len(self.names) >= PRUNE_MIN_FACETS:
+        if p.shape[0] >= PRUNE_MIN_POINTS and self._n_leaves >= PRUNE_MIN_LEAVES:
             # the same results, each operand evaluated only in the bins of points it may decide
             return pruned_decide(self, p)
         return self._walk_decide(self.solid, p, [0])

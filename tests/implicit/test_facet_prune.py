@@ -84,7 +84,7 @@ def test_pruned_decide_is_the_full_walk_bit_for_bit(solid, seed, per_bin, split)
     v1, d1 = pruned_decide(ff, p, per_bin)
     assert np.array_equal(v0, v1, equal_nan=True)
     assert np.array_equal(d0, d1)
-    # the public entry takes the pruned walk at this size
+    # the public entry (which prunes only trees of several leaves)
     v2, d2 = ff.decide(p)
     assert np.array_equal(v0, v2, equal_nan=True) and np.array_equal(d0, d2)
 
