@@ -347,7 +347,14 @@ class FacetField:
             w = w[:, None]
         if w.shape[0] != p.shape[0] or w.ndim != 2:
             raise ValueError(f"which: expected one facet index (or one row) per point, got shape {w.shape}")
-        return subset_values(self, p, w).reshape(np.shape(which))
+        if self._n_leaves < PRUNE_MIN_LEAVES:
+            # a small tree: one walk of every leaf over all points costs less than walking it per facet
+            ok = (w >= 0) & (w < len(self.names))
+            fv = self.facet_values(p)
+            out = np.where(ok, fv[np.where(ok, w, 0), np.arange(p.shape[0])[:, None]], 0.0)
+        else:
+            out = subset_values(self, p, w)
+        return out.reshape(np.shape(which))
 
     def _leaf_values(self, node, p):
         """Every facet's field ``(k, n)`` of the leaf `node` (`facet_values`'s rows of it)."""

@@ -101,6 +101,7 @@ def test_values_and_gradients_of_the_facets_asked_are_the_full_walks(solid, seed
     want = np.where(ok, fv[np.where(ok, which, 0), np.arange(p.shape[0])[:, None]], 0.0)
     got = ff.values_of(p, which)
     assert np.array_equal(got, want, equal_nan=True)
+    assert np.array_equal(subset_values(ff, p, which), want, equal_nan=True)
     # and the gradients of the facets asked for, each subtree mapped at its own points only
     _, g = ff.facets_with_gradients(p)
     want = np.where(ok[:, :, None], g[np.where(ok, which, 0), np.arange(p.shape[0])[:, None]], 0.0)
