@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Bins", "pruned_decide", "subset_values", "facet_order", "POINTS_PER_BIN", "MAX_BINS_PER_AXIS"]
+__all__ = ["MAX_BINS_PER_AXIS", "POINTS_PER_BIN", "Bins", "facet_order", "pruned_decide", "subset_values"]
 
 #: Target number of points per bin of the grid the walk is pruned on.
 POINTS_PER_BIN = 64

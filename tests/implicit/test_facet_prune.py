@@ -6,7 +6,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from implicit import (box, capsule, complement, cylinder, extrude, offset, polygon, rotate, rounded_box, scale,
-                      smooth_difference, smooth_union, sphere, torus, translate, union)
+                      smooth_difference, smooth_union, sphere, torus, union)
 from implicit.facet_prune import Bins, pruned_decide, subset_values
 from implicit.facets import PRUNE_MIN_POINTS, FacetField
 
