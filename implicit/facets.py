@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .facet_gradients import leaf_facets_with_gradients
+from .facet_prune import facet_order, pruned_decide, subset_values
 from .profile_facets import polygon_runs, run_fields
 from .solid import Solid
 
@@ -21,6 +22,11 @@ __all__ = ["SMOOTH_KINDS", "FacetField", "facet_field"]
 #: vertices all lie on one such facet holds no sharp edge, however much its normals turn.
 #: (A cone is not among them: its rims are edges of its one facet.)
 SMOOTH_KINDS = frozenset({"box", "cylinder", "sphere", "torus", "capsule", "halfspace"})
+#: `FacetField.decide` prunes the tree per bin of points (`implicit.facet_prune`) from this many points
+#: and leaves: below, sorting the points into bins costs more than the leaves it saves (the benchmark
+#: part's 4 leaves at 236,000 points: 0.11 s pruned, 0.09 s whole; the gear's 26 at 30,000: 0.015, 0.079).
+PRUNE_MIN_POINTS = 1024
+PRUNE_MIN_LEAVES = 8
 
 
 # ---------------------------------------------------------------------------
@@ -127,7 +133,9 @@ class FacetField:
         self.split_sides = bool(split_sides)
         self.names: list[str] = []
         pts = np.zeros((1, 3))
-        self._walk(solid, pts, [], self.names, [0])
+        leaves = [0]
+        self._walk(solid, pts, [], self.names, leaves)
+        self._n_leaves = leaves[0]
         flags: list = []
         self._smooth_flags(solid, flags)
         #: Per facet: its zero set is smooth (a plane, sphere, torus, cylinder wall... `SMOOTH_KINDS`).
@@ -226,6 +234,9 @@ class FacetField:
         ['cylinder_1.wall']
         """
         p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+        if p.shape[0] >= PRUNE_MIN_POINTS and self._n_leaves >= PRUNE_MIN_LEAVES:
+            # the same results, each operand evaluated only in the bins of points it may decide
+            return pruned_decide(self, p)
         return self._walk_decide(self.solid, p, [0])
 
     def _walk_decide(self, node, p, at):
@@ -253,6 +264,11 @@ class FacetField:
             return v - node.params["distance"], d
         start = at[0]
         at[0] += self._n_facets(node)
+        return self._leaf_decide(node, p, start)
+
+    def _leaf_decide(self, node, p, start):
+        """A leaf's field and deciding facet (its first facet is number `start`)."""
+        kind = node.kind
         if kind == "box" and not getattr(node, "_rr", 0.0):
             q = p - node._c
             up, down = q - node._h, -q - node._h
@@ -312,6 +328,38 @@ class FacetField:
         else:
             vals.extend(_leaf_facets(node, p, self.split_sides)[1])
 
+    def values_of(self, points, which):
+        """Value of facet ``which[i, j]`` at point ``i``: shape ``which.shape`` (0 where out of range).
+
+        The same values as ``facet_values(points)[which[i, j], i]``, but only
+        the leaves of the facets asked for are evaluated, each at its own points.
+
+        Examples
+        --------
+        >>> from implicit import box, sphere
+        >>> ff = FacetField(box(1.0) | sphere(1.0, center=(3.0, 0.0, 0.0)))
+        >>> ff.values_of([[0.0, 0.0, 0.0], [3.0, 0.0, 2.0]], [[1, 0], [6, 6]]).tolist()
+        [[-0.5, -0.5], [1.0, 1.0]]
+        """
+        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+        w = np.asarray(which, dtype=np.int64)
+        if w.ndim == 1:
+            w = w[:, None]
+        if w.shape[0] != p.shape[0] or w.ndim != 2:
+            raise ValueError(f"which: expected one facet index (or one row) per point, got shape {w.shape}")
+        if self._n_leaves < PRUNE_MIN_LEAVES:
+            # a small tree: one walk of every leaf over all points costs less than walking it per facet
+            ok = (w >= 0) & (w < len(self.names))
+            fv = self.facet_values(p)
+            out = np.where(ok, fv[np.where(ok, w, 0), np.arange(p.shape[0])[:, None]], 0.0)
+        else:
+            out = subset_values(self, p, w)
+        return out.reshape(np.shape(which))
+
+    def _leaf_values(self, node, p):
+        """Every facet's field ``(k, n)`` of the leaf `node` (`facet_values`'s rows of it)."""
+        return _leaf_facets(node, p, self.split_sides)[1]
+
     def facet_gradients(self, points, step=1e-7):
         """Gradients of every facet field by central differences, shape ``(k, n, 3)``.
 
@@ -348,7 +396,7 @@ class FacetField:
         rows, cols = np.nonzero((w >= 0) & (w < len(self.names)))
         out = np.zeros(w.shape + (3,))
         g = np.zeros((rows.shape[0], 3))
-        order = np.argsort(w[rows, cols], kind="stable")
+        order = facet_order(w[rows, cols], len(self.names))
         rows, cols = rows[order], cols[order]
         fac = w[rows, cols]
         self._grad_walk(self.solid, p, rows, fac, g, [0], step)
@@ -360,6 +408,10 @@ class FacetField:
         kind = node.kind
         start = counter[0]
         if kind in ("union", "intersection", "difference"):
+            lo, hi = np.searchsorted(fac, [start, start + self._n_facets(node)])
+            if hi == lo:                          # no facet of this subtree is asked for
+                counter[0] += self._n_facets(node)
+                return start, counter[0]
             for c in node.children:
                 self._grad_walk(c, p, rows, fac, g, counter, step)
         elif kind in ("complement", "family", "offset"):
@@ -367,7 +419,10 @@ class FacetField:
         elif kind == "affine":
             lo, hi = np.searchsorted(fac, [start, start + self._n_facets(node)])
             if hi > lo:
-                q = np.ascontiguousarray((p - node._offset) @ node._inv.T)
+                # only the rows asked for are mapped (each row's product does not depend on the others)
+                need = np.unique(rows[lo:hi])
+                q = np.empty_like(p)
+                q[need] = (p[need] - node._offset) @ node._inv.T
                 self._grad_walk(node.children[0], q, rows, fac, g, counter, step)
                 # q = inv (p - offset): the chain rule takes a gradient g(q) to g(q) inv
                 g[lo:hi] = g[lo:hi] @ (node._inv * node._factor)

@@ -391,12 +391,10 @@ def _nearest_on_line(q, t, lo, hi, h, steps=40):
 def _newton(ff, q, idx, used, h, steps):
     """Gauss-Newton steps onto the common zero set of the facets ``idx`` (``used`` of them per row)."""
     k = idx.shape[1]
-    r = np.arange(q.shape[0])
     q = q.copy()
     jac = np.zeros((q.shape[0], k, 3))
     for _ in range(steps):
-        fv = ff.facet_values(q)
-        val = np.stack([fv[idx[:, j], r] for j in range(k)], axis=1) * used
+        val = ff.values_of(q, idx) * used      # only the leaves of the row's facets, at its point
         jac = ff.gradients_of(q, idx, 1e-6 * h) * used[:, :, None]
         _newton_step(q, jac, val, used)
     return q, jac
