@@ -42,6 +42,20 @@ def children(parents, inner, outer, offsets, a, b):
 
 
 @numba.njit(cache=True, nogil=True)
+def centres(parents, inner, outer, offsets, a, b, origin, size, h):
+    """The centres of the children numbered ``a`` to ``b - 1``, cells of `size` voxels of edge `h`:
+    ``origin + (size * child + size // 2) * h``, the same floating-point operations as numpy's."""
+    c = np.empty((1, 3), np.int32)
+    out = np.empty((b - a, 3), np.float64)
+    half = size // 2
+    for t in range(a, b):
+        _child(parents, inner, outer, offsets, t, c, 0)
+        for k in range(3):
+            out[t - a, k] = origin[k] + np.float64(np.int32(size * c[0, k] + half)) * h
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
 def split(parents, inner, outer, offsets, values, bound, beyond):
     """The children whose ``|value| <= bound`` (they may hold boundary) with their values, and the
     others with their signs (-1 where the value is negative, else +1; a NaN is +1), followed by the

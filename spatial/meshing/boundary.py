@@ -132,7 +132,8 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
-    check_mesh_memory(lattice.bounds, lattice.voxel_size)     # refuse before allocating (cells.budget)
+    # refuse before allocating (cells.budget)
+    check_mesh_memory(lattice.bounds, lattice.voxel_size, features=bool(features))
     found = _boundary_cells_2h(lattice, progress, threads=2)
     if found["centres"] is not None:
         from ..cells.specks import warn_lost
@@ -223,8 +224,7 @@ def _boundary_cells_2h(lattice, progress, start=None, threads=1):
         values = np.empty(8 * inner.size + outer.shape[0])
 
         def centres(a, b, size=size, parents=parents, inner=inner, outer=outer, values=values):
-            c = K.children(parents, inner, outer, CHILD_OFFSETS, a, b)
-            values[a:b] = solid(lattice.origin + (size * c + size // 2) * h)
+            values[a:b] = solid(K.centres(parents, inner, outer, CHILD_OFFSETS, a, b, lattice.origin, size, h))
 
         # the chunks on `threads` threads (the serial part of the mesh: no slab runs beside it)
         _chunks_on_threads(centres, values.shape[0], EVAL_CHUNK, threads=threads)
