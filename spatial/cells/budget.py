@@ -3,9 +3,17 @@
 A boundary mesh costs memory in proportion to the surface it meshes, not to
 the lattice's volume; before sampling anything the only surface known is the
 bounding box's, and the box's area over ``h^2`` is what a boxy part's
-triangles follow (the benchmark part at N = 1024: 14.9 M triangles for
-6.3 M box-area cells, 2.4 per cell, peak about 56 bytes per triangle beyond
-the imports).  `estimate_mesh_bytes` takes that with a margin of two;
+triangles follow (the benchmark part: 2.36 triangles per box-area cell at
+N = 256 to 2048).  The memory the mesh adds to the process, its peak resident
+size less what the interpreter, the modules and the compiled kernels hold, was
+measured (``ru_maxrss``) on the benchmark part at N = 256, 512, 1024 and 2048,
+the plain mesh and the one with sharp features, and fitted within 1.3 % by
+``a + b t + c sqrt(t)`` bytes for ``t`` triangles (`PLAIN_FIT`,
+`FEATURES_FIT`; the square-root term: what grows with the slabs, not their
+area); `estimate_mesh_bytes` takes the fit with `MARGIN`, so that its
+estimate of that part lies between 1 and 1.3 times what it uses at N = 1024
+and 2048, 1.5 at N = 256 and 512 where runs vary more
+(tests/cells/test_budget.py measures them).
 `check_mesh_memory` refuses a request whose estimate exceeds
 `lattice.MEMORY_FRACTION` of the available memory, at once, instead of
 growing for minutes until the allocator gives up.  `check_tet_memory` does
@@ -14,16 +22,28 @@ the same for tetrahedra of a target edge length.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .lattice import MEMORY_FRACTION, available_memory
 
 __all__ = ["estimate_mesh_bytes", "check_mesh_memory", "estimate_tet_bytes", "check_tet_memory"]
 
-#: Triangles per ``h^2`` of bounding-box area (measured 2.4 on the benchmark part).
+#: Triangles per ``h^2`` of bounding-box area (measured 2.36 on the benchmark part).
 TRIANGLES_PER_CELL = 2.5
-#: Peak bytes per triangle of the boundary mesher (measured about 56; margin 2).
-BYTES_PER_TRIANGLE = 120.0
+#: Bytes the plain mesh (``features=False``) adds for ``t`` triangles: ``a + b t + c sqrt(t)``
+#: (benchmark part, N = 256 to 2048: 87 MB to 2.15 GB).
+PLAIN_FIT = (1.7e6, 26.4, 60.0e3)
+#: The same with sharp features rebuilt (the default; 134 MB to 7.34 GB: the feature pass holds
+#: about 80 bytes more per triangle).  Below the plain mesh's for small meshes, where the plain
+#: estimate is taken.
+FEATURES_FIT = (-44.9e6, 107.9, 73.7e3)
+#: The estimate over the fit: above the spread of one run to the next (up to 12 % either way at
+#: N = 256 and 512, where the slab pipeline's timing decides which arrays meet at the peak), so
+#: that the benchmark part's meshes use between 1 / 1.3 and all of the estimate at N = 1024 and 2048
+#: (1 / 1.5 at N = 256 and 512 on a loaded machine).
+MARGIN = 1.18
 #: Tetrahedra per ``size^3`` of volume (a regular tetrahedron holds 0.118 size^3;
 #: TetGen's quality meshes of the benchmark part hold about 14).
 TETS_PER_CELL = 15.0
@@ -38,20 +58,29 @@ def _box(bounds):
     return np.maximum(hi - lo, 0.0)
 
 
-def estimate_mesh_bytes(bounds, voxel_size) -> float:
-    """Peak bytes of a boundary mesh of a part in `bounds` at cell size `voxel_size`.
+def estimate_mesh_bytes(bounds, voxel_size, *, features=True) -> float:
+    """Bytes a boundary mesh of a part in `bounds` at cell size `voxel_size` adds to the process at
+    its peak (`features`: with sharp features rebuilt, as `spatial.mesh` does by default).
 
     Examples
     --------
-    >>> round(estimate_mesh_bytes(([0, 0, 0], [1, 1, 1]), 0.01) / 1e6, 1)
-    18.0
+    >>> round(estimate_mesh_bytes(([0, 0, 0], [1, 1, 1]), 0.01, features=False) / 1e6, 1)
+    34.1
     """
     d = _box(bounds)
     h = float(voxel_size)
     area = 2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0])
     # never more triangles than cells in the box (the lattice's volume bound)
     cells = min(area / (h * h), float(np.prod(np.ceil(d / h) + 2.0)))
-    return TRIANGLES_PER_CELL * cells * BYTES_PER_TRIANGLE
+    t = TRIANGLES_PER_CELL * cells
+
+    def fit(p):
+        return p[0] + p[1] * t + p[2] * math.sqrt(t)
+
+    need = fit(PLAIN_FIT)
+    if features:
+        need = max(need, fit(FEATURES_FIT))
+    return MARGIN * need
 
 
 def _refuse(need, what, detail, advice, max_bytes):
@@ -63,16 +92,18 @@ def _refuse(need, what, detail, advice, max_bytes):
     return need
 
 
-def check_mesh_memory(bounds, voxel_size, *, what="mesh", max_bytes=None) -> float:
-    """Refuse a boundary mesh that would not fit in memory; return the estimate (bytes).
+def check_mesh_memory(bounds, voxel_size, *, what="mesh", max_bytes=None, features=True) -> float:
+    """Refuse a boundary mesh that would not fit in memory; return the estimate (bytes,
+    `estimate_mesh_bytes`).
 
     Raises
     ------
     MemoryError
         Naming the estimate, the memory available and the voxel size that fits.
     """
-    need = estimate_mesh_bytes(bounds, voxel_size)
+    need = estimate_mesh_bytes(bounds, voxel_size, features=features)
     limit = MEMORY_FRACTION * available_memory() if max_bytes is None else float(max_bytes)
+    # as if the need went as 1 / h^2: it grows slower, so this voxel fits
     fits = float(voxel_size) * np.sqrt(need / max(limit, 1.0))
     return _refuse(need, what, f"a boundary mesh at voxel size {float(voxel_size):.3g}",
                    f"use a voxel size of at least {fits:.3g} (or fewer cells)", max_bytes)

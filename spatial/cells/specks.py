@@ -81,9 +81,9 @@ MIN_CANDIDATES = 48
 CELLS_PER_CANDIDATE = 512
 #: A feature thinner than this many voxels may be lost (the walls' rule: coarser than half of it).
 LOST_VOXELS = 2.0
-#: Largest box of cells of edge 2h around the shell whose known values are held in a grid (else
-#: they are sorted and searched).
-DENSE_CELLS = 1 << 25
+#: Largest grid of cells of edge 2h held at once: a shell whose box holds more is searched slab by
+#: slab along x (float32: 64 MB).
+DENSE_CELLS = 1 << 24
 #: Marks a neighbour of unknown value asked for (above any value or `_FAR`, until written).
 _MARK = 3e38
 #: Value standing for a uniform cell's (beyond any boundary cell's value).
@@ -298,10 +298,11 @@ def _candidates(solid, origin, h, cells, centres, uniform, uniform_parents):
     of its 26 neighbours'.
 
     The values known -- the BOUNDARY cells' centres, the signs of the uniform cells of edge 2h and
-    4h as ``+-_FAR`` -- fill a grid over the shell's box (compiled: a pass over the cells, none over
-    the box but its allocation) or, for a box too large to hold, are sorted and searched
-    (`_sorted_candidates`).  A neighbour of unknown sign (inside a uniform cell larger than ``4h``)
-    is sampled.
+    4h as ``+-_FAR`` -- fill a grid over the shell's box, slab by slab along x when the box holds
+    more than `DENSE_CELLS` cells (compiled: passes over the cells only; a slab's grid is cleared by
+    writing NaN where it was written, so the cost follows the shell, not its box).  A slab's grid
+    holds one plane more on each side, so every cell sees its 26 neighbours as the whole box would.
+    A neighbour of unknown sign (inside a uniform cell larger than ``4h``) is sampled.
     """
     from . import specks_kernels as K
 
@@ -309,28 +310,48 @@ def _candidates(solid, origin, h, cells, centres, uniform, uniform_parents):
     # the box starts on an even cell, so that a parent of edge 4h maps to whole children
     lo = lo - 1 - (lo - 1) % 2
     dims = hi + 2 - lo
-    if int(np.prod(dims)) > DENSE_CELLS:
-        c = cells.astype(np.int64) - lo
-        return _sorted_candidates(solid, origin, h, c, centres, uniform, uniform_parents, lo, dims)
-    grid = np.full(int(np.prod(dims)), np.nan, dtype=np.float32)
-    shift = -lo
-    for u, k in ((uniform_parents, 2), (uniform, 1)):
-        if u is not None and len(u[0]):
-            K.fill(grid, dims, u[0], u[1], k, shift, np.float32(_FAR))
-    # the cells' own values as float32 too, so that a tie stays a tie
-    K.put(grid, dims, cells, shift, centres)
-    s0, s1 = int(dims[1] * dims[2]), int(dims[2])
+    plane = int(dims[1] * dims[2])
+    n = int(dims[0])
+    # core planes per slab: the whole box when it fits, else what fits with a plane on each side
+    per = n if n * plane <= DENSE_CELLS else max(1, DENSE_CELLS // plane - 2)
+    known = [(u[0], u[1], k) + K.by_plane(u[0][:, 0], k, int(lo[0]), n)
+             for u, k in ((uniform_parents, 2), (uniform, 1)) if u is not None and len(u[0])]
+    order, starts = K.by_plane(cells[:, 0], 1, int(lo[0]), n)
+    buf = np.full(min(n, per + 2) * plane, np.nan, dtype=np.float32)
     offs = _offsets()
-    deltas = (offs[:, 0] * s0 + offs[:, 1] * s1 + offs[:, 2]).astype(np.int64)
-    which = np.arange(cells.shape[0], dtype=np.int64)
-    mark = np.float32(_MARK)
-    status, ask = K.extrema(grid, dims, cells, shift, which, deltas, mark)
-    if ask.size:
-        # neighbours of unknown sign: sampled, then the undecided cells decided again
-        q = np.stack([ask // s0, (ask // s1) % dims[1], ask % s1], axis=1)
-        K.put_flat(grid, ask, np.asarray(solid(origin + (2 * (q + lo) + 1) * h), dtype=np.float32))
-        again = np.flatnonzero(status == 2).astype(np.int64)
-        status[again] = K.extrema(grid, dims, cells, shift, again, deltas, mark)[0]
+    deltas = (offs[:, 0] * plane + offs[:, 1] * int(dims[2]) + offs[:, 2]).astype(np.int64)
+    mark, far, nan = np.float32(_MARK), np.float32(_FAR), np.float32(np.nan)
+    clear = np.full(1, np.nan)
+    status = np.zeros(cells.shape[0], np.int8)
+    for p0 in range(0, n, per):
+        p1 = min(p0 + per, n)
+        core = order[starts[p0]:starts[p1]]
+        if core.size == 0:
+            continue
+        g0, g1 = max(p0 - 1, 0), min(p1 + 1, n)
+        sdims = np.array([g1 - g0, dims[1], dims[2]], dtype=np.int64)
+        shift = -lo - np.array([g0, 0, 0], dtype=np.int64)
+        grid = buf[:(g1 - g0) * plane]
+        # the uniform cells over the slab's planes (a parent of 4h over the plane below too)
+        parts = [(uc, signs, k, by[at[max(g0 - k + 1, 0)]:at[g1]]) for uc, signs, k, by, at in known]
+        for uc, signs, k, which in parts:
+            K.fill(grid, sdims, uc, signs, which, k, shift, far)
+        # the cells' own values as float32 too, so that a tie stays a tie
+        near = order[starts[g0]:starts[g1]]
+        K.put(grid, sdims, cells, near, shift, centres)
+        st, ask = K.extrema(grid, sdims, cells, shift, core, deltas, mark)
+        if ask.size:
+            # neighbours of unknown sign: sampled, then the undecided cells decided again
+            q = np.stack([ask // plane + g0, (ask // int(dims[2])) % dims[1], ask % int(dims[2])], axis=1)
+            K.put_flat(grid, ask, np.asarray(solid(origin + (2 * (q + lo) + 1) * h), dtype=np.float32))
+            again = np.flatnonzero(st == 2)
+            st[again] = K.extrema(grid, sdims, cells, shift, core[again], deltas, mark)[0]
+        status[core] = st
+        if p1 < n:
+            for uc, signs, k, which in parts:
+                K.fill(grid, sdims, uc, signs, which, k, shift, nan)
+            K.put(grid, sdims, cells, near, shift, clear)
+            K.put_flat(grid, ask, np.full(ask.size, np.nan, np.float32))
     is_min, is_max = np.flatnonzero(status == 1), np.flatnonzero(status == -1)
     return (np.concatenate([is_min, is_max]),
             np.concatenate([np.ones(is_min.size, np.int8), -np.ones(is_max.size, np.int8)]))
@@ -340,76 +361,6 @@ def _offsets():
     """The 26 neighbours' offsets, the six faces first, then the edges and the corners."""
     offs = np.array([o for o in np.ndindex(3, 3, 3) if o != (1, 1, 1)], dtype=np.int64) - 1
     return offs[np.argsort(np.abs(offs).sum(axis=1), kind="stable")]
-
-
-def _sorted_candidates(solid, origin, h, c, centres, uniform, uniform_parents, lo, dims):
-    """`_candidates` from the sorted keys of the known cells, each offset searched for the cells
-    still in the running only."""
-    neighbour = _sorted_values(c, centres, uniform, uniform_parents, lo, dims)
-    m = c.shape[0]
-    alive = np.arange(m)
-    lower = np.ones(m, bool)        # no neighbour below it yet: a minimum so far
-    upper = np.ones(m, bool)
-    differs = np.zeros(m, bool)
-    for d in _offsets():
-        if alive.size == 0:
-            break
-        nv = neighbour(alive, d)
-        rest = np.flatnonzero(np.isnan(nv))
-        if rest.size:
-            nv[rest] = np.asarray(solid(origin + (2 * (c[alive[rest]] + d + lo) + 1) * h), dtype=np.float64)
-        v = centres[alive]
-        lower[alive] &= ~(nv < v)
-        upper[alive] &= ~(nv > v)
-        differs[alive] |= nv != v
-        alive = alive[lower[alive] | upper[alive]]
-    is_min = lower[alive] & differs[alive] & ~upper[alive]
-    is_max = upper[alive] & differs[alive] & ~lower[alive]
-    idx = np.concatenate([alive[is_min], alive[is_max]])
-    side = np.concatenate([np.ones(int(is_min.sum()), np.int8), -np.ones(int(is_max.sum()), np.int8)])
-    return idx, side
-
-
-def _uniform_in(u, k, lo, dims):
-    """A set of uniform cells of edge ``k * 2h`` as cells of edge 2h inside the box (their lower
-    child), shifted by `lo`, with ``+-_FAR`` by sign."""
-    if u is None or len(u[0]) == 0:
-        return np.zeros((0, 3), np.int64), np.zeros(0, np.float32)
-    uc = np.asarray(u[0], dtype=np.int64) * k - lo
-    inside = ((uc[:, 0] > -k) & (uc[:, 0] < dims[0]) & (uc[:, 1] > -k) & (uc[:, 1] < dims[1])
-              & (uc[:, 2] > -k) & (uc[:, 2] < dims[2]))
-    return uc[inside], np.where(np.asarray(u[1])[inside] < 0, np.float32(-_FAR), np.float32(_FAR))
-
-
-def _sorted_values(c, centres, uniform, uniform_parents, lo, dims):
-    """Neighbour values from the sorted linear keys of the known cells (NaN: unknown)."""
-    span = dims + 2
-
-    def key(q):
-        return ((q[:, 0] + 1) * span[1] + (q[:, 1] + 1)) * span[2] + (q[:, 2] + 1)
-
-    uc, uv = _uniform_in(uniform, 1, lo, dims)
-    pc, pv = _uniform_in(uniform_parents, 2, lo, dims)
-    # a parent is filed under its lower child (none of its children is classified below it)
-    keys = np.concatenate([key(c), key(uc), key(pc)])
-    vals = np.concatenate([centres, uv, pv])
-    order = np.argsort(keys, kind="stable")
-    keys, vals = keys[order], vals[order]
-
-    def find(q):
-        k = key(q)
-        pos = np.minimum(np.searchsorted(keys, k), keys.shape[0] - 1)
-        return np.where(keys[pos] == k, vals[pos], np.nan)
-
-    def neighbour(alive, d):
-        q = c[alive] + d
-        nv = find(q)
-        miss = np.flatnonzero(np.isnan(nv))
-        if miss.size:
-            nv[miss] = find((q[miss] + lo) // 2 * 2 - lo)
-        return nv
-
-    return neighbour
 
 
 def _fine(solid, centre_pts, half, n):

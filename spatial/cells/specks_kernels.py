@@ -13,11 +13,13 @@ __all__ = []
 
 
 @numba.njit(cache=True, nogil=True)
-def fill(grid, dims, cells, signs, k, shift, far):
+def fill(grid, dims, cells, signs, which, k, shift, far):
     """Write ``+-far`` (by sign) into `grid` (flat, C order over `dims`) at every cell of edge 2h that
-    a uniform cell of edge ``k * 2h`` holds: ``k * cell + (0..k-1) + shift`` on every axis."""
+    the uniform cells `which` of edge ``k * 2h`` hold: ``k * cell + (0..k-1) + shift`` on every axis
+    (a NaN `far` clears them)."""
     s0, s1 = dims[1] * dims[2], dims[2]
-    for i in range(cells.shape[0]):
+    for j in range(which.shape[0]):
+        i = which[j]
         v = -far if signs[i] < 0 else far
         for a in range(k):
             x = cells[i, 0] * k + a + shift[0]
@@ -32,6 +34,25 @@ def fill(grid, dims, cells, signs, k, shift, far):
                     if z < 0 or z >= dims[2]:
                         continue
                     grid[x * s0 + y * s1 + z] = v
+
+
+@numba.njit(cache=True, nogil=True)
+def by_plane(x, k, lo, n):
+    """The cells in order of their plane ``k * x - lo`` along the first axis (clipped to ``0..n-1``; a
+    counting sort, stable): the order and the start of every plane in it, ``(n + 1,)``."""
+    count = np.zeros(n + 1, np.int64)
+    for i in range(x.shape[0]):
+        p = min(max(np.int64(x[i]) * k - lo, 0), n - 1)
+        count[p + 1] += 1
+    for p in range(n):
+        count[p + 1] += count[p]
+    starts = count.copy()
+    order = np.empty(x.shape[0], np.int64)
+    for i in range(x.shape[0]):
+        p = min(max(np.int64(x[i]) * k - lo, 0), n - 1)
+        order[count[p]] = i
+        count[p] += 1
+    return order, starts
 
 
 @numba.njit(cache=True, nogil=True)
@@ -53,15 +74,15 @@ def box(cells):
 
 
 @numba.njit(cache=True, nogil=True)
-def put(grid, dims, cells, shift, values):
-    """Write `values` into `grid` at ``cells + shift``; returns the values as stored (float32)."""
+def put(grid, dims, cells, which, shift, values):
+    """Write ``values[i]`` into `grid` at ``cells[i] + shift`` for the cells `which` (float32: a tie
+    stays a tie); a `values` of one element writes it at every cell (NaN clears them)."""
     s0, s1 = dims[1] * dims[2], dims[2]
-    out = np.empty(cells.shape[0], np.float32)
-    for i in range(cells.shape[0]):
+    one = values.shape[0] == 1
+    for j in range(which.shape[0]):
+        i = which[j]
         f = (cells[i, 0] + shift[0]) * s0 + (cells[i, 1] + shift[1]) * s1 + cells[i, 2] + shift[2]
-        grid[f] = values[i]
-        out[i] = grid[f]
-    return out
+        grid[f] = values[0] if one else values[i]
 
 
 @numba.njit(cache=True, nogil=True)

@@ -132,7 +132,8 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
         warnings.warn("mesh: the solid is empty (its bounds enclose nothing); returning an empty mesh",
                       RuntimeWarning, stacklevel=2)
         return empty_mesh(lattice.voxel_size if voxel_size else 0.0)
-    check_mesh_memory(lattice.bounds, lattice.voxel_size)     # refuse before allocating (cells.budget)
+    # refuse before allocating (cells.budget)
+    check_mesh_memory(lattice.bounds, lattice.voxel_size, features=bool(features))
     found = _boundary_cells_2h(lattice, progress, threads=2)
     if found["centres"] is not None:
         from ..cells.specks import warn_lost
@@ -206,41 +207,41 @@ def _boundary_cells_2h(lattice, progress, start=None, threads=1):
     evaluations = result["evaluations"]
     h = lattice.voxel_size
     parents = result["boundary"]
-    uniform, node_idx, node_val = [], [], []
+    from ..cells import lattice_kernels as K
+
+    uniform, nodes = [], None
     for size in (4, 2):  # cell edge in voxels
         limit = (-(-lattice.shape // size)).astype(np.int32)
         # children beyond the padded region are EMPTY (the solid lies inside its bounds); only the
-        # parents on the region's upper edge have such children
+        # parents on the region's upper edge have such children.  The others' children are read from
+        # their parents when needed (`lattice_kernels`), never listed all at once
         edge = (2 * parents + 1 >= limit).any(axis=1)
-        children = (2 * parents[~edge][:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
+        inner = np.flatnonzero(~edge)
         at_edge = (2 * parents[edge][:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
         inside = (at_edge < limit).all(axis=1)
-        beyond = at_edge[~inside]
-        children = np.concatenate([children, at_edge[inside]])
+        beyond, outer = at_edge[~inside], np.ascontiguousarray(at_edge[inside])
         del edge, at_edge, inside
-        values = np.empty(children.shape[0])
+        values = np.empty(8 * inner.size + outer.shape[0])
 
-        def centres(a, b, size=size, children=children, values=values):
-            values[a:b] = solid(lattice.origin + (size * children[a:b] + size // 2) * h)
+        def centres(a, b, size=size, parents=parents, inner=inner, outer=outer, values=values):
+            values[a:b] = solid(K.centres(parents, inner, outer, CHILD_OFFSETS, a, b, lattice.origin, size, h))
 
         # the chunks on `threads` threads (the serial part of the mesh: no slab runs beside it)
-        _chunks_on_threads(centres, children.shape[0], EVAL_CHUNK, threads=threads)
-        evaluations += int(children.shape[0])
+        _chunks_on_threads(centres, values.shape[0], EVAL_CHUNK, threads=threads)
+        evaluations += int(values.shape[0])
         # the default bound: |f(centre)| <= L * half-diagonal may hold boundary
         # (plus a tie's width: a uniform cell's nodes are never ties, see `_settle_ties`)
-        keep = np.abs(values) <= lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12) + 2 * ZERO_TIE * h
-        flat = np.concatenate([children[~keep], beyond])
-        signs = np.concatenate([np.where(values[~keep] < 0, -1, 1), np.ones(beyond.shape[0])]).astype(np.int8)
-        uniform.append((flat.astype(np.int32), signs))
+        bound = lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12) + 2 * ZERO_TIE * h
         if size == 4:
             # the centre of a cell of 4h is a lattice node
-            node_idx.append(4 * children + 2)
-            node_val.append(values)
-        parents = children[keep]
-        centres = values[keep]
+            nodes = (4 * K.children(parents, inner, outer, CHILD_OFFSETS, 0, values.shape[0]) + 2, values)
+        parents, centres, flat, signs = K.split(parents, inner, outer, CHILD_OFFSETS, values, bound,
+                                                np.ascontiguousarray(beyond))
+        uniform.append((flat, signs))
+        del values, inner, outer, beyond
     return dict(cells=parents, centres=centres,
                 uniform=uniform[1], uniform_parents=uniform[0],
-                nodes=(np.concatenate(node_idx), np.concatenate(node_val)), evaluations=evaluations)
+                nodes=nodes, evaluations=evaluations)
 
 
 #: The classification of `mesh`, for callers meshing a part of the lattice (one brick per task).

@@ -170,9 +170,10 @@ def test_a_budget_that_follows_the_surface_examines_them_all(monkeypatch):
 
 
 @pytest.mark.parametrize("which", ["gaps", "speck", "many", 1274, 3132])
-def test_sorted_fallback_gives_the_compiled_candidates(which, monkeypatch):
-    # a shell whose box holds more than DENSE_CELLS cells is searched on sorted keys: the same candidates
-    from spatial.cells import specks
+def test_slabs_give_the_one_grid_candidates(which, monkeypatch):
+    # a shell whose box holds more than DENSE_CELLS cells is searched slab by slab along x: the same
+    # candidates in the same order, and the same feature, as one grid over the box
+    from spatial.cells import specks, specks_kernels
 
     sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
     from fuzzgen import random_case
@@ -192,19 +193,23 @@ def test_sorted_fallback_gives_the_compiled_candidates(which, monkeypatch):
     found = boundary_cells_2h(lat, False)
     args = (lat.solid, lat.origin, lat.voxel_size, found["cells"], found["centres"], found["uniform"],
             found["uniform_parents"])
-    dense = specks._candidates(*args)
+    calls = []
+    real = specks_kernels.extrema
+    monkeypatch.setattr(specks_kernels, "extrema", lambda *a: calls.append(a[4].size) or real(*a))
+    one = specks._candidates(*args)
+    whole = len(calls)          # one grid: one search, and one more after sampling unknown neighbours
     feat = lost_feature(*args[:5], uniform=args[5], uniform_parents=args[6])
-    monkeypatch.setattr(specks, "DENSE_CELLS", 0)
-    called = []
-    real = specks._sorted_candidates
-    monkeypatch.setattr(specks, "_sorted_candidates", lambda *a: called.append(1) or real(*a))
-    sparse = specks._candidates(*args)
-    assert called
-    assert dense[0].size > 0
-    a, b = np.lexsort((dense[1], dense[0])), np.lexsort((sparse[1], sparse[0]))
-    np.testing.assert_array_equal(dense[0][a], sparse[0][b])
-    np.testing.assert_array_equal(dense[1][a], sparse[1][b])
-    assert lost_feature(*args[:5], uniform=args[5], uniform_parents=args[6]) == feat
+    assert one[0].size > 0 and whole <= 2
+    dims = found["cells"].max(axis=0) - found["cells"].min(axis=0) + 3
+    for planes in (1, 2, 5):
+        # a grid of `planes` core planes and one on each side (the smallest, 1: a slab per plane)
+        monkeypatch.setattr(specks, "DENSE_CELLS", int((planes + 2) * dims[1] * dims[2]))
+        del calls[:]
+        slabs = specks._candidates(*args)
+        assert len(calls) > whole
+        np.testing.assert_array_equal(slabs[0], one[0])
+        np.testing.assert_array_equal(slabs[1], one[1])
+        assert lost_feature(*args[:5], uniform=args[5], uniform_parents=args[6]) == feat
 
 
 def test_a_plateau_of_candidates_is_one_and_only_unmeasured_plateaus_are_counted():
