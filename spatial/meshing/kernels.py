@@ -434,3 +434,20 @@ def needed_nodes(code, B, flat, s_n, maybe, upper):
                         upper[m] = x == B
                         m += 1
                     q += 1
+
+
+@numba.njit(cache=True, nogil=True)
+def paint_parents(state, idx, sgn, x0, y0, z0, negative, positive):
+    """OR the sign of uniform cells twice as large (`idx`, `sgn`) into the cell states over their
+    eight children, ``state[child - (x0, y0, z0)]``, those inside `state` only (one pass over the
+    cells instead of painting them at their own scale and repeating the array along each axis)."""
+    s0, s1, s2 = state.shape
+    for i in range(idx.shape[0]):
+        g = negative if sgn[i] < 0 else positive
+        bx = 2 * np.int64(idx[i, 0]) - x0
+        by = 2 * np.int64(idx[i, 1]) - y0
+        bz = 2 * np.int64(idx[i, 2]) - z0
+        for x in range(max(bx, 0), min(bx + 2, s0)):
+            for y in range(max(by, 0), min(by + 2, s1)):
+                for z in range(max(bz, 0), min(bz + 2, s2)):
+                    state[x, y, z] |= g

@@ -9,9 +9,9 @@ import threading
 import numpy as np
 
 from .saddles import break_ties
-from .arrays import _evaluate, _nudge, _release_free_memory, _repeat2, _settle_ties
+from .arrays import _evaluate, _nudge, _release_free_memory, _settle_ties
 from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, infer_around, needed_nodes,
-                      node_ids, node_points, ring_to_nodes, take_block)
+                      node_ids, node_points, paint_parents, ring_to_nodes, take_block)
 
 __all__ = []
 
@@ -99,18 +99,8 @@ class _SlabJob:
         xc = self.slab * P - 1
         state = np.zeros((P + 2, y1 - y0, z1 - z0), dtype=np.uint8)
         if ring_parents is not None and ring_parents[0].shape[0]:
-            # uniform cells twice as large: painted at their own scale, then each over its 8 children
-            lo = np.array([xc, y0, z0]) // 2
-            hi = -(-np.array([xc + P + 2, y1, z1]) // 2)
-            idx, sgn = ring_parents
-            sel = ((idx >= lo) & (idx < hi)).all(axis=1)
-            coarse = np.zeros(tuple((hi - lo).tolist()), dtype=np.uint8)
-            coarse[tuple((idx[sel] - lo).T)] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
-            for ax in range(3):
-                coarse = _repeat2(coarse, ax)
-            shift = np.array([xc, y0, z0]) - 2 * lo
-            state |= coarse[shift[0]:shift[0] + state.shape[0], shift[1]:shift[1] + state.shape[1],
-                            shift[2]:shift[2] + state.shape[2]]
+            # uniform cells twice as large, each over its 8 children
+            paint_parents(state, ring_parents[0], ring_parents[1], xc, y0, z0, np.uint8(NEGATIVE), np.uint8(POSITIVE))
         if ring is not None and ring[0].shape[0]:
             idx, sgn = ring
             sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)

@@ -10,7 +10,7 @@ from hypothesis import given, settings, strategies as st
 from implicit import box, cylinder, sphere
 from spatial import mesh
 from spatial.meshing.arrays import _repeat2
-from spatial.meshing.kernels import block_input, count_needed, needed_nodes
+from spatial.meshing.kernels import block_input, count_needed, needed_nodes, paint_parents
 
 
 @settings(max_examples=40, deadline=None)
@@ -124,3 +124,29 @@ def test_mesh_samples_slabs_on_two_threads_and_mesh_cells_checks_the_count(monke
     assert seen == [True, False]
     with pytest.raises(ValueError, match="slab_threads"):
         mesh_cells(sphere(1.0), (0.0, 0.0, 0.0), 0.1, [[0, 0, 0]], slab_threads=3)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(1, 6), st.integers(1, 6), st.integers(1, 6))
+def test_paint_parents_is_the_coarse_numpy_painting(seed, s0, s1, s2):
+    """The uniform parents' signs over their children inside a slab's state array, against the
+    painting at the parents' scale, repeated twice along each axis and cut out."""
+    rng = np.random.default_rng(seed)
+    origin = rng.integers(-3, 4, size=3)
+    lo_p, hi_p = (origin - 2) // 2, (origin + np.array([s0, s1, s2]) + 2) // 2
+    cand = np.stack(np.meshgrid(*[np.arange(a, b) for a, b in zip(lo_p, hi_p)], indexing="ij"), -1).reshape(-1, 3)
+    idx = cand[rng.random(cand.shape[0]) < 0.4].astype(np.int32)
+    sgn = rng.choice(np.array([-1, 1], np.int8), size=idx.shape[0])
+    state = rng.integers(0, 2, size=(s0, s1, s2)).astype(np.uint8)  # NEEDED bits already there
+    expect = state.copy()
+    lo = origin // 2
+    hi = -(-(origin + np.array([s0, s1, s2])) // 2)
+    sel = ((idx >= lo) & (idx < hi)).all(axis=1)
+    coarse = np.zeros(tuple((hi - lo).tolist()), np.uint8)
+    coarse[tuple((idx[sel] - lo).T)] = np.where(sgn[sel] < 0, 4, 2)
+    for ax in range(3):
+        coarse = np.repeat(coarse, 2, axis=ax)
+    shift = origin - 2 * lo
+    expect |= coarse[shift[0]:shift[0] + s0, shift[1]:shift[1] + s1, shift[2]:shift[2] + s2]
+    paint_parents(state, idx, sgn, int(origin[0]), int(origin[1]), int(origin[2]), np.uint8(4), np.uint8(2))
+    assert np.array_equal(state, expect)
