@@ -35,10 +35,10 @@ TRIANGLES_PER_CELL = 2.5
 #: Bytes the plain mesh (``features=False``) adds for ``t`` triangles: ``a + b t + c sqrt(t)``
 #: (benchmark part, N = 256 to 2048: 87 MB to 2.15 GB).
 PLAIN_FIT = (1.7e6, 26.4, 60.0e3)
-#: The same with sharp features rebuilt (the default; 134 MB to 7.34 GB: the feature pass holds
-#: about 80 bytes more per triangle).  Below the plain mesh's for small meshes, where the plain
-#: estimate is taken.
-FEATURES_FIT = (-44.9e6, 107.9, 73.7e3)
+#: The same with sharp features rebuilt (the default; 86 MB to 3.79 GB: the feature pass holds
+#: about 31 bytes more per triangle).  Never below the plain mesh's estimate: the larger of the
+#: two is taken.
+FEATURES_FIT = (3.7e6, 57.4, 21.6e3)
 #: The estimate over the fit: above the spread of one run to the next (up to 12 % either way at
 #: N = 256 and 512, where the slab pipeline's timing decides which arrays meet at the peak), so
 #: that the benchmark part's meshes use between 1 / 1.3 and all of the estimate at N = 1024 and 2048
