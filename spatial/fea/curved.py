@@ -6,8 +6,10 @@ onto the feature curve for an edge along a sharp edge (two crossing facets,
 nodes (`spread_curving`) so the elements next to a curved boundary bend with
 it instead of folding.  Where an element still folds, its interior mid-edge
 nodes are moved until the Bezier coefficients of its Jacobian determinant are
-all positive (`untangle_midnodes`), and a flat boundary element in the way of
-a curved edge (three corners on a hole's rim) is removed (`curve_boundary`).
+all positive (`untangle_midnodes`; where that is not enough the boundary mid
+nodes off the feature curves slide on the surface as well), and a flat
+boundary element in the way of a curved edge (three corners on a hole's rim)
+is removed (`curve_boundary`).
 A move is given up only where none of that proves every element valid.
 """
 
@@ -75,6 +77,8 @@ def _project_midnodes(solid, ff, points, tets10, boundary, n_corner, size):
         good = (np.linalg.norm(snapped - start[ii], axis=1) < size) & np.isfinite(snapped).all(axis=1)
         good &= np.abs(solid(snapped)) < tol
         moved[ii[good]] = snapped[good]
+    else:
+        ii, good = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
     pts[mids] = moved
     from .quality import scaled_jacobian
 
@@ -90,6 +94,14 @@ def _project_midnodes(solid, ff, points, tets10, boundary, n_corner, size):
             free[n_corner:] = True
             free[mids] = False
             pts = untangle_midnodes(pts, tets10, free, active=folded)
+            folded = scaled_jacobian(pts, tets10) <= 0
+            if folded.any():
+                # Still folded (a curved edge across a face narrower than the size): the boundary mid
+                # nodes off the feature curves slide on the surface too, the curved one with them.
+                slide = np.zeros(len(pts), dtype=bool)
+                slide[mids] = True
+                slide[mids[ii[good]]] = False
+                pts = untangle_midnodes(pts, tets10, free | slide, active=folded, solid=solid, slide=slide)
             folded = None
     else:
         folded = np.zeros(len(tets10), dtype=bool)
@@ -244,7 +256,8 @@ UNTANGLE_TARGET = 0.05
 UNTANGLE_STALL = 8
 
 
-def untangle_midnodes(points, tets10, free, *, active=None, rounds=60, seed=0, trials=24):
+def untangle_midnodes(points, tets10, free, *, active=None, rounds=60, seed=0, trials=24, solid=None,
+                      slide=None):
     """Move the `free` mid-edge nodes of elements whose Jacobian is not proven positive until
     it is (every Bezier coefficient of its determinant > 0), where a move can do it.
 
@@ -253,7 +266,9 @@ def untangle_midnodes(points, tets10, free, *, active=None, rounds=60, seed=0, t
     largest smallest scaled Bezier coefficient over the elements around the node: the
     interior edges next to a curved boundary edge bend out of its way.  Corner nodes and the
     other mid nodes stay.  `active` marks the elements to unfold (default: those whose
-    Jacobian is not proven positive).  Returns the new points.
+    Jacobian is not proven positive).  The `slide` nodes (a mask, with `solid`) try positions
+    projected onto the solid's surface only, so that a boundary mid node stays on it.
+    Returns the new points.
 
     Examples
     --------
@@ -271,6 +286,9 @@ def untangle_midnodes(points, tets10, free, *, active=None, rounds=60, seed=0, t
     tets10 = np.asarray(tets10, dtype=np.int64)
     free = np.asarray(free, dtype=bool)
     n = len(pts)
+    if slide is not None and solid is None:
+        raise ValueError("slide: needs the solid whose surface the nodes slide on")
+    slide = np.zeros(n, dtype=bool) if slide is None else np.asarray(slide, dtype=bool)
     mid = tets10[:, 4:]
     flat = mid.reshape(-1)
     order = np.argsort(flat, kind="stable")
@@ -311,6 +329,15 @@ def untangle_midnodes(points, tets10, free, *, active=None, rounds=60, seed=0, t
             scale = (0.02 + 0.3 * (k % 4) / 3.0) * length[verts]
             tried.append(cur + rng.normal(size=cur.shape) * scale[:, None] / np.sqrt(3.0))
         tried = np.stack(tried)  # (t, v, 3)
+        on = slide[verts]
+        if on.any():
+            # positions off the surface are tried at their projection; those not reaching it stay put
+            t_on = tried[:, on].reshape(-1, 3)
+            proj = project_to_surface(solid, t_on, max_move=0.5 * length[verts[on]].max())
+            tol = 0.1 * OFF_SURFACE * np.tile(length[verts[on]], len(tried))
+            reached = np.abs(solid(proj)) <= tol
+            proj[~reached] = np.tile(cur[on], (len(tried), 1))[~reached]
+            tried[:, on] = proj.reshape(len(tried), -1, 3)
         el = tets10[pair_t]
         x = np.broadcast_to(pts[el], (len(tried),) + el.shape + (3,)).copy()  # (t, p, 10, 3)
         row, col = np.nonzero(el == verts[pair_v][:, None])
