@@ -49,10 +49,11 @@ def test_huge_resolution_is_refused_at_once(tmp_path, capsys):
     assert mesh(box(1.0), resolution=16, progress=False).n_cells > 0
 
 
-#: The benchmark part's meshes use at least 1 / OVER of the memory estimated (and at most all of it):
-#: the median run about 1 / 1.2 (spatial/cells/budget.py), a run on a loaded machine down to 1 / 1.45
-#: at N = 256 and 512 (the slab pipeline's timing decides which arrays meet at the peak).
-OVER = 1.5
+#: The benchmark part's meshes use at least 1 / OVER[n] of the memory estimated (and at most all of it):
+#: the median run about 1 / 1.2 (spatial/cells/budget.py). At N = 256 the growth is some 70 to 90 MB,
+#: and which of the slab pipeline's arrays meet at its peak depends on the machine's load: measured
+#: 67 MB beside the whole test suite against 83 to 88 MB alone (1 / 1.53 of the estimate to 1 / 1.2).
+OVER = {256: 1.75, 512: 1.5}
 
 _PEAK = r"""
 import json, sys, warnings
@@ -85,7 +86,7 @@ print(json.dumps([grown, estimate_mesh_bytes(lat.bounds, lat.voxel_size, feature
 @pytest.mark.parametrize("features", [False, True])
 def test_the_estimate_brackets_the_measured_peak(n, features):
     # a fresh process: the memory the mesh adds (its peak resident size beyond a first small mesh's) lies between
-    # 1 / OVER of the estimate and all of it
+    # 1 / OVER[n] of the estimate and all of it
     import json
     import os
     import subprocess
@@ -96,4 +97,4 @@ def test_the_estimate_brackets_the_measured_peak(n, features):
                          capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-2000:]
     grown, estimate = json.loads(run.stdout.strip().splitlines()[-1])
-    assert grown <= estimate <= OVER * grown, (grown / 1e6, estimate / 1e6)
+    assert grown <= estimate <= OVER[n] * grown, (grown / 1e6, estimate / 1e6)
