@@ -341,12 +341,7 @@ class FacetField:
         >>> ff.values_of([[0.0, 0.0, 0.0], [3.0, 0.0, 2.0]], [[1, 0], [6, 6]]).tolist()
         [[-0.5, -0.5], [1.0, 1.0]]
         """
-        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
-        w = np.asarray(which, dtype=np.int64)
-        if w.ndim == 1:
-            w = w[:, None]
-        if w.shape[0] != p.shape[0] or w.ndim != 2:
-            raise ValueError(f"which: expected one facet index (or one row) per point, got shape {w.shape}")
+        p, w = _points_and_which(points, which)
         if self._n_leaves < PRUNE_MIN_LEAVES:
             # a small tree: one walk of every leaf over all points costs less than walking it per facet
             ok = (w >= 0) & (w < len(self.names))
@@ -387,12 +382,7 @@ class FacetField:
         >>> ff.gradients_of([[0.0, 0.0, 0.0], [3.0, 0.0, 2.0]], [1, 6]).tolist()
         [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
         """
-        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
-        w = np.asarray(which, dtype=np.int64)
-        if w.ndim == 1:
-            w = w[:, None]
-        if w.shape[0] != p.shape[0] or w.ndim != 2:
-            raise ValueError(f"which: expected one facet index (or one row) per point, got shape {w.shape}")
+        p, w = _points_and_which(points, which)
         rows, cols = np.nonzero((w >= 0) & (w < len(self.names)))
         out = np.zeros(w.shape + (3,))
         g = np.zeros((rows.shape[0], 3))
@@ -523,6 +513,17 @@ class FacetField:
         value = fv[0] if len(sub) == 1 else np.asarray(node._evaluate(p), dtype=np.float64)
         dec = start + dec
         return np.asarray(value, dtype=np.float64), dec
+
+
+def _points_and_which(points, which):
+    """Points as a contiguous (n, 3) array and `which` as (n, k) facet indices, one row per point."""
+    p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+    w = np.asarray(which, dtype=np.int64)
+    if w.ndim == 1:
+        w = w[:, None]
+    if w.shape[0] != p.shape[0] or w.ndim != 2:
+        raise ValueError(f"which: expected one facet index (or one row) per point, got shape {w.shape}")
+    return p, w
 
 
 def facet_field(solid: Solid) -> FacetField:
