@@ -9,6 +9,7 @@ from implicit import (box, capsule, complement, cylinder, extrude, offset, polyg
                       smooth_difference, smooth_union, sphere, torus, union)
 from implicit.facet_prune import Bins, pruned_decide, subset_values
 from implicit.facets import PRUNE_MIN_POINTS, FacetField
+from parts import capsule_lattice
 
 _coord = st.floats(-1.0, 1.0)
 _size = st.floats(0.15, 0.8)
@@ -135,19 +136,6 @@ def test_bins_hold_every_point_once_in_tight_boxes():
     assert 5000 / 32 / 2 < len(b.starts) - 1 < 5000 / 32 * 2
 
 
-def lattice(cells=4, radius=0.12):
-    """Capsules along the edges of ``cells^3`` unit cells (3 cells: 144 capsules; 4: 300), and a box."""
-    caps = []
-    ticks = np.arange(cells + 1, dtype=float)
-    for axis in range(3):
-        for i in ticks[:cells]:
-            for j in ticks:
-                for k in ticks:
-                    a = np.roll(np.array([i, j, k]), axis)
-                    caps.append(capsule(tuple(a), tuple(a + np.roll([1.0, 0.0, 0.0], axis)), radius))
-    return union(*caps) & box((cells,) * 3, center=(cells / 2,) * 3), len(caps)
-
-
 @pytest.fixture
 def capsule_points(monkeypatch):
     """A counter of the points at which capsules are evaluated, by their own field."""
@@ -165,7 +153,7 @@ def capsule_points(monkeypatch):
 
 def test_decide_on_a_lattice_evaluates_the_capsules_near_each_point(capsule_points):
     """300 capsules: each point of the surface meets a handful of them (the full walk: all 300)."""
-    solid, n_caps = lattice(4)
+    solid, n_caps = capsule_lattice(4)
     rng = np.random.default_rng(1)
     # points on the capsules' surfaces: at radius 0.12 around random points of the edges
     axis = rng.integers(0, 3, 20000)

@@ -1,24 +1,11 @@
 """The feature pass on a part of hundreds of primitives evaluates the few near each point, not all of them."""
 
-import numpy as np
 import pytest
 
-from implicit import box, capsule, union
+from implicit import capsule
 from implicit.facets import FacetField
 from spatial.meshing import mesh
-
-
-def _lattice(cells=4, radius=0.12):
-    """Capsules along the edges of ``cells^3`` unit cells (4 cells: 300 capsules) cut by the cells' box."""
-    caps = []
-    ticks = np.arange(cells + 1, dtype=float)
-    for axis in range(3):
-        for i in ticks[:cells]:
-            for j in ticks:
-                for k in ticks:
-                    a = np.roll(np.array([i, j, k]), axis)
-                    caps.append(capsule(tuple(a), tuple(a + np.roll([1.0, 0.0, 0.0], axis)), radius))
-    return union(*caps) & box((cells,) * 3, center=(cells / 2,) * 3), len(caps)
+from parts import capsule_lattice
 
 
 @pytest.fixture
@@ -53,7 +40,7 @@ def facet_work(monkeypatch):
 
 
 def test_lattice_of_300_capsules_meshes_with_features_by_the_capsules_near_each_point(facet_work):
-    solid, n_caps = _lattice(4)
+    solid, n_caps = capsule_lattice(4)
     assert n_caps == 300
     m = mesh(solid, resolution=56, progress=False)
     assert int(m.field_data["feature_cells"][0]) > 0           # the pass did rebuild edges
