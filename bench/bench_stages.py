@@ -44,7 +44,7 @@ def wrap(mod, name, label, store=None):
 wrap(bm, "_boundary_cells_2h", "classify")
 wrap(cm, "merge_blocks", "merge")
 wrap(cm, "_refine_on_edges", "refine")
-wrap(cm, "sharp_polydata", "features")
+wrap(cm, "sharp_polydata_lent", "features")
 wrap(sm._SlabJob, "prepare", "prepare", P)
 wrap(sm._SlabJob, "mesh", "mesh", M)
 import spatial.cells.specks as sp
