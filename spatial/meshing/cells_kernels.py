@@ -112,14 +112,16 @@ def ties(values, limit):
     return out
 
 
-@numba.njit(cache=True, nogil=True)
-def _is_free(f0, f1, i, certify, floor, least):
-    # `refine._certified`, negated: float32 throughout, as numpy computes it there
-    if not certify:
-        return True
+@numba.njit(cache=True, nogil=True, inline="always")
+def _free_and_tied(f0, f1, i, refine, certify, floor, least, split):
+    # `refine._certified`, negated: float32 throughout, as numpy computes it there; bitwise `&` and
+    # `|` (no short cut), so that the loops below run without branches on the values
     a = abs(f0[i])
     b = abs(f1[i])
-    return not (a > floor and b > floor and b + a >= least)
+    trusted = certify & (a > floor) & (b > floor) & (b + a >= least)
+    free = refine & (not trusted)
+    tied = free & split & ((a <= floor) | (b <= floor))
+    return free, tied
 
 
 @numba.njit(cache=True, nogil=True)
@@ -143,15 +145,15 @@ def vertex_stage(f0, f1, axis, interior, refine, certify, floor, least, split):
     for i in range(n):
         if axis[i] == interior:
             n_inner += 1
-        elif refine and _is_free(f0, f1, i, certify, floor, least):
-            if split and (abs(f0[i]) <= floor or abs(f1[i]) <= floor):
-                n_tied += 1
-            else:
-                n_rest += 1
+        else:
+            free, tied = _free_and_tied(f0, f1, i, refine, certify, floor, least, split)
+            n_tied += tied
+            n_rest += free & (not tied)
     t = np.empty(n, np.float64)
     inner = np.empty(n_inner, np.int64)
-    tied = np.empty(n_tied, np.int32)
-    rest = np.empty(n_rest, np.int32)
+    # one spare slot each: every vertex is written at the lists' ends, kept only when it belongs there
+    tied_rows = np.empty(n_tied + 1, np.int32)
+    rest_rows = np.empty(n_rest + 1, np.int32)
     n_inner = 0
     n_tied = 0
     n_rest = 0
@@ -162,16 +164,14 @@ def vertex_stage(f0, f1, axis, interior, refine, certify, floor, least, split):
             axis[i] = 0
             inner[n_inner] = i
             n_inner += 1
-        elif refine and _is_free(f0, f1, i, certify, floor, least):
-            if split and (abs(f0[i]) <= floor or abs(f1[i]) <= floor):
-                tied[n_tied] = i
-                n_tied += 1
-            else:
-                rest[n_rest] = i
-                n_rest += 1
+        else:
+            free, tied = _free_and_tied(f0, f1, i, refine, certify, floor, least, split)
+            tied_rows[n_tied] = i
+            n_tied += tied
+            rest_rows[n_rest] = i
+            n_rest += free & (not tied)
         a = np.float64(f0[i])
         v = a / (a - np.float64(f1[i]))
         t[i] = v
-        if not np.isfinite(v):
-            finite = False
-    return t, inner, tied, rest, finite
+        finite &= np.isfinite(v)
+    return t, inner, tied_rows[:n_tied], rest_rows[:n_rest], finite
