@@ -91,3 +91,46 @@ def split(parents, inner, outer, offsets, values, bound, beyond):
         signs[iu] = 1
         iu += 1
     return kept, kept_values, uniform, signs
+
+
+@numba.njit(cache=True, nogil=True)
+def at_upper_edge(parents, limit):
+    """The parents whose children all lie inside the region (``2 * parent + 1 < limit`` on every axis)
+    and the others, each as increasing row indices: ``np.flatnonzero(~edge)`` and ``np.flatnonzero(edge)``
+    of ``edge = (2 * parents + 1 >= limit).any(axis=1)``, without its whole-array temporaries."""
+    n = parents.shape[0]
+    n_edge = 0
+    for i in range(n):
+        for a in range(3):
+            if 2 * parents[i, a] + 1 >= limit[a]:
+                n_edge += 1
+                break
+    inner = np.empty(n - n_edge, np.int64)
+    edge = np.empty(n_edge, np.int64)
+    ki = 0
+    ke = 0
+    for i in range(n):
+        out = False
+        for a in range(3):
+            if 2 * parents[i, a] + 1 >= limit[a]:
+                out = True
+                break
+        if out:
+            edge[ke] = i
+            ke += 1
+        else:
+            inner[ki] = i
+            ki += 1
+    return inner, edge
+
+
+@numba.njit(cache=True, nogil=True)
+def centre_nodes(parents, inner, outer, offsets, a, b, size):
+    """The lattice nodes at the centres of the children numbered ``a`` to ``b - 1``, cells of `size`
+    voxels: ``size * child + size // 2`` (int32, ``(b - a, 3)``; `children` scaled in place)."""
+    out = children(parents, inner, outer, offsets, a, b)
+    half = size // 2
+    for r in range(out.shape[0]):
+        for k in range(3):
+            out[r, k] = size * out[r, k] + half
+    return out

@@ -215,8 +215,7 @@ def _boundary_cells_2h(lattice, progress, start=None, threads=1):
         # children beyond the padded region are EMPTY (the solid lies inside its bounds); only the
         # parents on the region's upper edge have such children.  The others' children are read from
         # their parents when needed (`lattice_kernels`), never listed all at once
-        edge = (2 * parents + 1 >= limit).any(axis=1)
-        inner = np.flatnonzero(~edge)
+        inner, edge = K.at_upper_edge(parents, limit)
         at_edge = (2 * parents[edge][:, None, :] + CHILD_OFFSETS).reshape(-1, 3)
         inside = (at_edge < limit).all(axis=1)
         beyond, outer = at_edge[~inside], np.ascontiguousarray(at_edge[inside])
@@ -234,7 +233,7 @@ def _boundary_cells_2h(lattice, progress, start=None, threads=1):
         bound = lip * np.sqrt(3.0) * (size // 2) * h * (1 + 1e-12) + 2 * ZERO_TIE * h
         if size == 4:
             # the centre of a cell of 4h is a lattice node
-            nodes = (4 * K.children(parents, inner, outer, CHILD_OFFSETS, 0, values.shape[0]) + 2, values)
+            nodes = (K.centre_nodes(parents, inner, outer, CHILD_OFFSETS, 0, values.shape[0], size), values)
         parents, centres, flat, signs = K.split(parents, inner, outer, CHILD_OFFSETS, values, bound,
                                                 np.ascontiguousarray(beyond))
         uniform.append((flat, signs))

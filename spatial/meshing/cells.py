@@ -9,11 +9,12 @@ import numpy as np
 
 from ..files.progress import progress_bar
 from ..files.surface import triangle_surface
-from .arrays import (DEFAULT_BLOCK, REFINE_ACCEPT, REFINE_TOL, ZERO_NUDGE, _nudge, _release_free_memory, _settle_ties,
+from .arrays import (DEFAULT_BLOCK, REFINE_ACCEPT, REFINE_TOL, ZERO_NUDGE, ZERO_TIE, _release_free_memory, _settle_ties,
                      _stable_order, empty_mesh, refine_scale)
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharp_polydata_lent
-from .refine import _certified, _refine_on_edges
+from .refine import _refine_on_edges
+from .cells_kernels import min_max, min_max_rows, order_by_key, take_entries, take_nudged, take_rows, ties, vertex_stage
 from .kernels import place_vertices
 from .slab import _SlabJob, run_slabs
 
@@ -93,12 +94,13 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     c = int(cell_size)
     block = _check_block(block)
     origin = np.asarray(origin, dtype=np.float64)
-    cells = np.asarray(cells, dtype=np.int64).reshape(-1, 3)
+    cells = _index_rows(cells, np.int64)
     if cells.shape[0] == 0:
         warnings.warn("mesh: no boundary in the region (the solid is empty there or fills it); "
                       "returning an empty mesh", RuntimeWarning, stacklevel=_stacklevel)
         return empty_mesh(h, evaluations)
-    if np.any(cells < 0):
+    lowest, highest = min_max_rows(cells)
+    if lowest < 0:
         raise ValueError("cells: expected non-negative lattice indices")
     if isinstance(slab_threads, bool) or slab_threads not in (1, 2):
         raise ValueError(f"slab_threads: expected 1 or 2, got {slab_threads!r}")
@@ -112,7 +114,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     if block % c:
         raise ValueError(f"block: expected a multiple of the cell size {c}, got {block}")
     lip = float(getattr(solid, "lipschitz", np.inf))
-    least = int((cells.max() + 1) * c) + 2
+    least = int((highest + 1) * c) + 2
     if stride is not None and int(stride) < least:
         raise ValueError(f"stride: expected at least {least} for these cells, got {stride}")
     stride = np.int64(least if stride is None else int(stride))  # global node ids: (x * S + y) * S + z
@@ -125,53 +127,84 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         if centre_values.shape[0] != cells.shape[0]:
             raise ValueError(f"centre_values: expected {cells.shape[0]} values, got {centre_values.shape[0]}")
     usable = np.isfinite(lip) and lip > 0  # inference needs a finite Lipschitz constant
-    uniform = _by_x(uniform_cells, "uniform_cells", "signs", np.int32, np.int8, c) if usable else None
-    parents = _by_x(uniform_parents, "uniform_parents", "signs", np.int32, np.int8, c) if usable else None
-    known = _by_x(node_values, "node_values", "values", np.int64, np.float64, c) if usable else None
-    # their x columns, contiguous for the searches below
-    uniform_x, parents_x, known_x = (None if p is None else np.ascontiguousarray(p[0][:, 0])
-                                     for p in (uniform, parents, known))
-    if known is not None:
-        kv = np.array(known[1], dtype=np.float64)
-        evaluations += _settle_ties(solid, origin + known[0] * h, kv, h)
-        known = (known[0], _nudge(kv, h).astype(np.float32))
-        del kv
+    # the rings' rows checked (they are cut out slab by slab below, after the cells)
+    rings = [_ring(pair, name, what, np.int32 if name != "node_values" else np.int64, vtype, c) if usable else None
+             for pair, name, what, vtype in ((uniform_cells, "uniform_cells", "signs", np.int8),
+                                             (uniform_parents, "uniform_parents", "signs", np.int8),
+                                             (node_values, "node_values", "values", np.float64))]
     del uniform_cells, uniform_parents, node_values
     centre_infer = usable and centre_values is not None
-    # cells grouped in slabs of `block` voxels along x
-    slab_of = cells[:, 0] // per
-    order = _stable_order(slab_of)
-    cells, slab_of = cells[order], slab_of[order]
+    eps = ZERO_NUDGE * h
+    # cells grouped in slabs of `block` voxels along x: a counting sort by slab (the stable order)
+    first_slab, last_slab = (int(v) // per for v in min_max(cells[:, 0]))
+    order, starts = order_by_key(cells[:, 0], per, first_slab, last_slab - first_slab + 1)
     if centre_values is not None:
-        centre_values = centre_values[order]
-        evaluations += _settle_ties(solid, origin + (c * cells + c // 2) * h, centre_values, h)
-        centre_values = _nudge(centre_values, h).astype(np.float32)
-    del order
-    slab_starts = np.flatnonzero(np.r_[True, slab_of[1:] != slab_of[:-1]])
-    slab_ends = np.r_[slab_starts[1:], cells.shape[0]]
+        # ties settled in the slabs' order, as every sample of a slab is (the values of a copy)
+        tie = ties(centre_values, ZERO_TIE * h)
+        if tie.size:
+            tie = tie[_stable_order(cells[tie, 0] // per)]
+            settled = centre_values[tie]
+            evaluations += _settle_ties(solid, origin + (c * cells[tie].astype(np.int64) + c // 2) * h, settled, h)
+            centre_values = centre_values.copy()
+            centre_values[tie] = settled
+            del settled
+        del tie
+    slabs = np.flatnonzero(starts[1:] > starts[:-1])
+    spans = [(int(starts[k]), int(starts[k + 1])) for k in slabs]
+    slabs = (slabs + first_slab).astype(np.int64)
+    n_cells = int(cells.shape[0])
 
     # -- each slab's share of the classification, cut out once and dropped as its slab is done --
     # (the whole-lattice arrays would otherwise stay alive under the growing parts: at N=1024 some
     # 150 MB of the peak)
-    slabs = slab_of[slab_starts].astype(np.int64)
-    n_cells = int(cells.shape[0])
-    pieces = [[cells[s0:s1].copy(), None if centre_values is None else centre_values[s0:s1].copy(), None, None,
-               None] for s0, s1 in zip(slab_starts, slab_ends)]
-    del cells, slab_of, centre_values
-    for col, (pair, xs, lo, hi) in enumerate((
-            (uniform, uniform_x, slabs * per - 1, (slabs + 1) * per + 1),
-            (parents, parents_x, (slabs * per - 1) // 2, ((slabs + 1) * per) // 2 + 1),
+    pieces = []
+    for s0, s1 in spans:
+        sc = np.empty((s1 - s0, 3), np.int64)
+        take_rows(cells, order, s0, s1, sc)
+        given = None
+        if centre_values is not None:
+            given = np.empty(s1 - s0, np.float32)
+            take_nudged(centre_values, order, s0, s1, eps, given)
+        pieces.append([sc, given, None, None, None])
+    del cells, centre_values, order, starts
+    for col, (ring, lo, hi) in enumerate((
+            (rings[0], slabs * per - 1, (slabs + 1) * per + 1),
+            (rings[1], (slabs * per - 1) // 2, ((slabs + 1) * per) // 2 + 1),
             # nodes strictly inside the slab (those on its planes are shared: not worth merging)
-            (known, known_x, slabs * block + 1, (slabs + 1) * block)), start=2):
-        if pair is None:
+            (rings[2], slabs * block + 1, (slabs + 1) * block)), start=2):
+        if ring is None:
             continue
-        # searched in the column's own dtype: a wider query would cast the whole column
-        first = np.searchsorted(xs, lo.astype(xs.dtype))
-        last = np.searchsorted(xs, hi.astype(xs.dtype))
+        idx, val, itype = ring
+        rings[col - 2] = None
+        x_lo, x_hi = min_max(idx[:, 0]) if idx.shape[0] else (0, -1)
+        order, starts = order_by_key(idx[:, 0], 1, x_lo, x_hi - x_lo + 1)
+        if col == 4:
+            # the nodes' ties settled in order along x (the values of a copy)
+            tie = ties(val, ZERO_TIE * h)
+            if tie.size:
+                tie = tie[_stable_order(idx[tie, 0] - x_lo)]
+                settled = val[tie]
+                evaluations += _settle_ties(solid, origin + idx[tie].astype(np.int64) * h, settled, h)
+                val = val.copy()
+                val[tie] = settled
+                del settled
+            del tie
+        # the rows of x in [lo, hi) of each slab
+        first = starts[np.clip(lo - x_lo, 0, starts.shape[0] - 1)]
+        last = starts[np.clip(hi - x_lo, 0, starts.shape[0] - 1)]
         for k in range(len(pieces)):
-            pieces[k][col] = (pair[0][first[k]:last[k]].copy(), pair[1][first[k]:last[k]].copy())
-        del pair, first, last
-    del uniform, parents, known, uniform_x, parents_x, known_x
+            a, b = int(first[k]), int(last[k])
+            rows = np.empty((max(b - a, 0), 3), itype)
+            if col == 4:
+                vals = np.empty(rows.shape[0], np.float32)
+                take_nudged(val, order, a, a + rows.shape[0], eps, vals)
+            else:
+                vals = np.empty(rows.shape[0], val.dtype)
+                take_entries(val, order, a, a + rows.shape[0], vals)
+            take_rows(idx, order, a, a + rows.shape[0], rows)
+            pieces[k][col] = (rows, vals)
+        del ring, idx, val, order, starts, first, last
+    del rings
     _release_free_memory()
 
     parts = []
@@ -207,32 +240,26 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     # (ordered to keep few vertex-sized arrays alive at once: this is the peak of memory)
     nodes, axis, f0, f1 = data
     del data
-    inner = np.flatnonzero(axis == INTERIOR)
-    if inner.size:
-        # a vertex inside a cube: on no edge, placed at the mean of its neighbours below
-        f1[inner] = -f0[inner]
-        axis[inner] = 0
-    t = f0 / (f0.astype(np.float64) - f1)
-    if not np.isfinite(t).all():  # never for ends of opposite signs; a guard against a field's NaN
+    # one compiled pass: a vertex inside a cube (on no edge) is placed at the mean of its neighbours
+    # below; the others' fractions along their edge, and those to refine
+    certify = bool(usable)
+    floor = np.float32(ZERO_NUDGE * h * (1 + 1e-3))
+    least = np.float32(lip * h - REFINE_ACCEPT * h) if certify else np.float32(0.0)
+    # beside a tie (an end pushed ZERO_NUDGE h off the level) the stop tolerances shrink with h past
+    # REFINE_FULL_N voxels across the solid (`refine_scale`): a fixed fraction of h left those vertices
+    # a first-order distance off.  Elsewhere the free last step already leaves an O(h^2) error.
+    scale = refine_scale(solid, h) if refine else 1.0
+    t, inner, tied, rows, finite = vertex_stage(f0, f1, axis, INTERIOR, bool(refine), certify, floor, least,
+                                                scale < 1.0)
+    if not finite:  # never for ends of opposite signs; a guard against a field's NaN
         t = np.nan_to_num(t, nan=0.5, posinf=1.0, neginf=0.0)
         np.clip(t, 0.0, 1.0, out=t)
     if refine:
-        free = ~_certified(f0, f1, h, lip)
-        free[inner] = False
-        rows = np.flatnonzero(free).astype(np.int32)
-        del free
-        # beside a tie (an end pushed ZERO_NUDGE h off the level) the stop tolerances shrink with h past
-        # REFINE_FULL_N voxels across the solid (`refine_scale`): a fixed fraction of h left those vertices
-        # a first-order distance off.  Elsewhere the free last step already leaves an O(h^2) error.
-        scale = refine_scale(solid, h)
-        if scale < 1.0 and rows.size:
-            floor = np.float32(ZERO_NUDGE * h * (1 + 1e-3))
-            tied = (np.abs(f0[rows]) <= floor) | (np.abs(f1[rows]) <= floor)
-            spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows[tied], tol=REFINE_TOL * scale,
+        if scale < 1.0 and (tied.size or rows.size):
+            spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, tied, tol=REFINE_TOL * scale,
                                      accept=REFINE_ACCEPT * scale, threads=slab_threads)
-            rows = rows[~tied]
-            del tied
             evaluations += spent
+        del tied
         spent = _refine_on_edges(solid, origin, nodes, axis, h, t, f0, f1, rows, threads=slab_threads)
         evaluations += spent
         del rows
@@ -279,15 +306,22 @@ def _centre_inner(points, faces, inner):
     points[inner] = total / np.maximum(count, 1)[:, None]
 
 
-def _by_x(pair, name, what, index_type, value_type, cell_size):
-    """``(indices (k, 3), per-row values)`` checked and sorted by x, or None."""
+def _index_rows(arr, dtype):
+    """`arr` as (k, 3) integer rows: int32 and int64 arrays as they are (no whole-array copy), others as `dtype`."""
+    arr = np.asarray(arr)
+    if arr.dtype not in (np.int32, np.int64):
+        arr = arr.astype(dtype)
+    return arr.reshape(-1, 3)
+
+
+def _ring(pair, name, what, index_type, value_type, cell_size):
+    """``(indices (k, 3), per-row values, dtype of the slabs' indices)`` checked, or None."""
     if pair is None:
         return None
     if cell_size != 2:
         raise ValueError(f"{name}: only for cells of 2 voxels")
-    idx = np.asarray(pair[0], dtype=index_type).reshape(-1, 3)
+    idx = _index_rows(pair[0], index_type)
     val = np.asarray(pair[1], dtype=value_type).reshape(-1)
     if idx.shape[0] != val.shape[0]:
         raise ValueError(f"{name}: expected as many {what} as rows, got {val.shape[0]} for {idx.shape[0]}")
-    order = _stable_order(idx[:, 0])
-    return idx[order], val[order]
+    return idx, val, index_type

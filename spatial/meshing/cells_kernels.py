@@ -1,0 +1,177 @@
+"""Compiled bookkeeping of `cells`: rows bucketed by slab or plane, each slab's share cut out, the vertex stage.
+
+The boundary cells, the uniform cells around them and the nodes the classification sampled
+come in the octree's order.  Sorting them along x and gathering the sorted copies (numpy's
+``argsort`` and fancy indexing over every row, several passes and whole-array temporaries each)
+cost more than the surface's growth at N=2048; a counting sort by the row's slab or x plane is
+one pass over the keys, and each slab's share is gathered straight into its own array, with the
+samples nudged off the level (`arrays._nudge`) and made single precision on the way.  The
+vertex stage after the merge reads each vertex once for its edge fraction, whether its end
+values certify it (`refine._certified`) and whether it lies beside a tie, where numpy held
+several vertex-sized temporaries at the peak of memory.
+
+Module-level ``@njit(cache=True)`` functions; every result equals the numpy expression it
+replaces, bit for bit.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+__all__ = []
+
+
+@numba.njit(cache=True, nogil=True)
+def min_max(x):
+    """The smallest and largest entry of an integer array of one axis (at least one entry)."""
+    lo = np.int64(x[0])
+    hi = lo
+    for i in range(x.shape[0]):
+        v = np.int64(x[i])
+        if v < lo:
+            lo = v
+        elif v > hi:
+            hi = v
+    return lo, hi
+
+
+@numba.njit(cache=True, nogil=True)
+def min_max_rows(rows):
+    """The smallest and largest entry of (k, 3) integer rows (at least one row)."""
+    lo = np.int64(rows[0, 0])
+    hi = lo
+    for i in range(rows.shape[0]):
+        for c in range(rows.shape[1]):
+            v = np.int64(rows[i, c])
+            if v < lo:
+                lo = v
+            elif v > hi:
+                hi = v
+    return lo, hi
+
+
+@numba.njit(cache=True, nogil=True)
+def order_by_key(x, div, lo, n):
+    """Rows in order of their key ``x // div - lo`` (``0 .. n - 1``; a stable counting sort, the order
+    of ``np.argsort(keys, kind="stable")``) and where each key starts in that order, ``(n + 1,)``."""
+    start = np.zeros(n + 1, np.int64)
+    for i in range(x.shape[0]):
+        start[np.int64(x[i]) // div - lo + 1] += 1
+    for k in range(n):
+        start[k + 1] += start[k]
+    at = start[:n].copy()
+    order = np.empty(x.shape[0], np.int64)
+    for i in range(x.shape[0]):
+        k = np.int64(x[i]) // div - lo
+        order[at[k]] = i
+        at[k] += 1
+    return order, start
+
+
+@numba.njit(cache=True, nogil=True)
+def take_rows(src, order, a, b, out):
+    """``out[:] = src[order[a:b]]`` for (k, 3) rows (cast to `out`'s type)."""
+    for r in range(a, b):
+        i = order[r]
+        for c in range(3):
+            out[r - a, c] = src[i, c]
+
+
+@numba.njit(cache=True, nogil=True)
+def take_entries(src, order, a, b, out):
+    """``out[:] = src[order[a:b]]`` (cast to `out`'s type)."""
+    for r in range(a, b):
+        out[r - a] = src[order[r]]
+
+
+@numba.njit(cache=True, nogil=True)
+def take_nudged(src, order, a, b, eps, out):
+    """``out[:] = _nudge(src[order[a:b]], h)`` in single precision: a value within `eps` of the level
+    (NaN included) pushed to ``-eps`` if negative, else ``+eps``, then rounded to float32."""
+    for r in range(a, b):
+        v = src[order[r]]
+        if not abs(v) >= eps:
+            v = -eps if v < 0 else eps
+        out[r - a] = np.float32(v)
+
+
+@numba.njit(cache=True, nogil=True)
+def ties(values, limit):
+    """Indices (increasing) of the values within `limit` of 0: ``np.flatnonzero(np.abs(values) <= limit)``."""
+    n = 0
+    for i in range(values.shape[0]):
+        if abs(values[i]) <= limit:
+            n += 1
+    out = np.empty(n, np.int64)
+    n = 0
+    for i in range(values.shape[0]):
+        if abs(values[i]) <= limit:
+            out[n] = i
+            n += 1
+    return out
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _free_and_tied(f0, f1, i, refine, certify, floor, least, split):
+    # `refine._certified`, negated: float32 throughout, as numpy computes it there; bitwise `&` and
+    # `|` (no short cut), so that the loops below run without branches on the values
+    a = abs(f0[i])
+    b = abs(f1[i])
+    trusted = certify & (a > floor) & (b > floor) & (b + a >= least)
+    free = refine & (not trusted)
+    tied = free & split & ((a <= floor) | (b <= floor))
+    return free, tied
+
+
+@numba.njit(cache=True, nogil=True)
+def vertex_stage(f0, f1, axis, interior, refine, certify, floor, least, split):
+    """Edge fraction of every vertex and the vertices to refine, in place of the numpy of `cells.mesh_cells`.
+
+    A vertex inside a cube (axis `interior`) gets ``f1 = -f0`` and axis 0, in place; ``t = f0 /
+    (f0 - f1)`` in double precision.  With `refine`, the vertices neither inside a cube nor
+    certified (`certify`: the Lipschitz test of `refine._certified` with its `floor` and its
+    ``L h - REFINE_ACCEPT h`` bound `least`, both float32) are listed in increasing order; with
+    `split`, those with an end within `floor` of the level (beside a tie) apart from the others.
+
+    Returns ``(t (v,) float64, inner (i,) int64, tied (k,) int32, rest (j,) int32, finite)``: `tied`
+    is empty unless `split`; `finite` is False when some ``t`` is not finite (a field's NaN).
+    """
+    n = f0.shape[0]
+    n_inner = 0
+    n_tied = 0
+    n_rest = 0
+    # counts first (a vertex inside a cube is neither tied nor refined, whatever its values)
+    for i in range(n):
+        if axis[i] == interior:
+            n_inner += 1
+        else:
+            free, tied = _free_and_tied(f0, f1, i, refine, certify, floor, least, split)
+            n_tied += tied
+            n_rest += free & (not tied)
+    t = np.empty(n, np.float64)
+    inner = np.empty(n_inner, np.int64)
+    # one spare slot each: every vertex is written at the lists' ends, kept only when it belongs there
+    tied_rows = np.empty(n_tied + 1, np.int32)
+    rest_rows = np.empty(n_rest + 1, np.int32)
+    n_inner = 0
+    n_tied = 0
+    n_rest = 0
+    finite = True
+    for i in range(n):
+        if axis[i] == interior:
+            f1[i] = -f0[i]
+            axis[i] = 0
+            inner[n_inner] = i
+            n_inner += 1
+        else:
+            free, tied = _free_and_tied(f0, f1, i, refine, certify, floor, least, split)
+            tied_rows[n_tied] = i
+            n_tied += tied
+            rest_rows[n_rest] = i
+            n_rest += free & (not tied)
+        a = np.float64(f0[i])
+        v = a / (a - np.float64(f1[i]))
+        t[i] = v
+        finite &= np.isfinite(v)
+    return t, inner, tied_rows[:n_tied], rest_rows[:n_rest], finite
