@@ -87,7 +87,7 @@ def mesh(solid, *, client=None, workers=None, **options):
     True
     """
     if client is None and workers is None:
-        from .distributed.warn import user_warnings
+        from .files.warn import user_warnings
         from .meshing import mesh as mesh_here
 
         # (warnings at the caller's line, not this wrapper's)
@@ -114,7 +114,7 @@ def mass_properties(obj, *, client=None, workers=None, **options):
     """
     if client is None and workers is None:
         from .analysis import mass_properties as mass_here
-        from .distributed.warn import user_warnings
+        from .files.warn import user_warnings
 
         return user_warnings(mass_here)(obj, **options)
     from .distributed import mass_properties as _mass_on_cluster
