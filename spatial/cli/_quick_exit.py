@@ -30,6 +30,7 @@ __all__ = ["exit_now"]
 
 def _flush_open_files() -> None:
     """Flush every buffered file object still open (their data would otherwise be lost with the process)."""
+    gc.unfreeze()  # objects an exit handler froze (`spatial.files.shutdown`) are listed only once unfrozen
     for obj in gc.get_objects():
         if isinstance(obj, (io.BufferedWriter, io.BufferedRandom, io.TextIOWrapper)):
             try:
