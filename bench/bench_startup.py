@@ -32,7 +32,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import whole_process as wp  # noqa: E402
 
-COMMAND = "import sys; sys.path.insert(0, {root!r}); from spatial.cli import main; sys.exit(main())"
+#: The console script of a tree: `console` (which ends the process without the interpreter's teardown) where the
+#: tree has it, else `main`.
+COMMAND = ("import sys; sys.path.insert(0, {root!r}); import spatial.cli as cli; "
+           "cli.console() if hasattr(cli, 'console') else sys.exit(cli.main())")
 
 PHASES = r"""
 import json, sys, time

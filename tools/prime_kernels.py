@@ -40,6 +40,11 @@ def main() -> int:
 
     turn = np.linspace(0, 2 * np.pi, POLYGON_KERNEL_EDGES, endpoint=False)
     polygon_distance(np.zeros((64, 2)), np.c_[np.cos(turn), np.sin(turn)])
+    # `implicad mesh -o part.stl` fills the file's records and counts the edges by compiled passes
+    from spatial.files.kernels import RECORD, edges_twice, stl_records
+
+    stl_records(np.eye(3), np.array([[0, 1, 2]]), 0, 1, np.empty(RECORD, dtype=np.uint8))
+    edges_twice(np.array([[0, 1, 2]]), 3)
     print(f"prime_kernels: numba kernels compiled or loaded in {time.perf_counter() - start:.1f} s")
     return 0
 

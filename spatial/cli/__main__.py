@@ -1,7 +1,5 @@
 """``python -m spatial.cli``: the `implicad` command."""
 
-import sys
+from . import console
 
-from . import main
-
-sys.exit(main())
+console()

@@ -131,10 +131,31 @@ def run(args) -> int:
         print(f"implicad: error: the mesh is empty at voxel size {h:.4g} (no boundary found); "
               "nothing written", file=sys.stderr)
         return 1
-    save_mesh(surface, args.output)
+    watertight = _save_and_check(surface, args.output, save_mesh)
     seconds = time.perf_counter() - t0
     evaluations = int(surface.field_data["evaluations"][0]) if "evaluations" in surface.field_data else 0
-    watertight = surface.n_cells > 0 and bool(surface.is_manifold)
     print(f"{args.output}: {surface.n_cells} triangles, {surface.n_points} vertices, "
           f"watertight {'yes' if watertight else 'no'}, {seconds:.2f} s, {evaluations} evaluations")
     return 0
+
+
+def _save_and_check(surface, path, save_mesh) -> bool:
+    """Write `surface` to `path` and tell whether it is watertight.
+
+    For arrays (the STL path) the edge count runs on a second thread while the
+    file is written: both hold the interpreter's lock only briefly (the
+    records are filled by a compiled pass, the edges sorted by numpy), so the
+    two overlap on two cores.  A PolyData is checked after the write (VTK's
+    filters are not run beside its writer).
+    """
+    from ..files.surface import TriangleArrays
+
+    if not isinstance(surface, TriangleArrays):
+        save_mesh(surface, path)
+        return surface.n_cells > 0 and bool(surface.is_manifold)
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        check = pool.submit(lambda: surface.n_cells > 0 and bool(surface.is_manifold))
+        save_mesh(surface, path)
+        return check.result()

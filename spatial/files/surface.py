@@ -86,18 +86,11 @@ class TriangleArrays:
         if self.n_cells == 0:
             return True
         t = self.triangles
-        m, n = t.shape[0], np.int64(max(self.n_points, 1))
-        keys = np.empty(3 * m, dtype=np.int64)
-        for k, (i, j) in enumerate(((0, 1), (1, 2), (2, 0))):
-            a, b = t[:, i], t[:, j]
-            part = keys[k * m:(k + 1) * m]
-            np.minimum(a, b, out=part)
-            part *= n
-            part += np.maximum(a, b)
-        # stable: timsort finds the runs a mesher's vertex order leaves (twice as fast here as quicksort)
-        keys.sort(kind="stable")
-        pairs = keys[0::2], keys[1::2]
-        return bool(keys.size % 2 == 0 and np.array_equal(*pairs) and (pairs[1][:-1] < pairs[0][1:]).all())
+        if t.min() < 0 or t.max() >= self.n_points:  # ids the compiled count cannot bucket
+            return _edges_twice_sorted(t, self.n_points)
+        from .kernels import edges_twice
+
+        return bool(edges_twice(np.ascontiguousarray(t), self.n_points))
 
     def to_polydata(self):
         """The same surface as a `pyvista.PolyData`, with its point and field data."""
@@ -109,3 +102,19 @@ class TriangleArrays:
         for name, values in self.field_data.items():
             out.field_data[name] = values
         return out
+
+
+def _edges_twice_sorted(t, n_points) -> bool:
+    """`TriangleArrays.is_manifold` by sorting every edge's key: any vertex ids (the compiled count's reference)."""
+    m, n = t.shape[0], np.int64(max(n_points, 1))
+    keys = np.empty(3 * m, dtype=np.int64)
+    for k, (i, j) in enumerate(((0, 1), (1, 2), (2, 0))):
+        a, b = t[:, i], t[:, j]
+        part = keys[k * m:(k + 1) * m]
+        np.minimum(a, b, out=part)
+        part *= n
+        part += np.maximum(a, b)
+    # stable: timsort finds the runs a mesher's vertex order leaves (twice as fast here as quicksort)
+    keys.sort(kind="stable")
+    pairs = keys[0::2], keys[1::2]
+    return bool(keys.size % 2 == 0 and np.array_equal(*pairs) and (pairs[1][:-1] < pairs[0][1:]).all())
