@@ -6,7 +6,7 @@ from parts import benchmark_part
 
 from spatial.meshing import mesh
 from spatial.meshing.feature_collapse import finish
-from spatial.meshing.feature_kernels import _candidate_cells, _group_cells, _sorted_unique
+from spatial.meshing.feature_cells import _candidate_cells, _group_cells, _sorted_unique
 from spatial.meshing.features import COS_CANDIDATE, sharp_polydata_lent, sharpen
 
 
