@@ -138,7 +138,8 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
     """The candidate cells' triangles and (cell, vertex) pairs, grouped by cell without a global sort.
 
     `cells` is the sorted array of candidate cell keys, the runs those of
-    `_candidate_cells`.  Each run finds its cell by one probe of an
+    `_candidate_cells`.  Each run whose key may be a candidate's (a bit
+    array says which may) finds its cell by one probe of an
     open-addressing table (the position in `cells` being the cell's index);
     a counting sort groups the triangles by cell, in triangle order within
     each, and each cell's few distinct vertices are sorted in place.  The
@@ -161,15 +162,28 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
         size *= 2
     mask = size - 1
     table = np.full(size, -1, np.int64)
+    # a bit per slot of a table 8 to 16 times as large, set for the candidates' keys: most runs are of no
+    # candidate and are told so by this small array (it stays in cache) without probing the table
+    bits = 8
+    while bits < 8 * n_cells + 8:
+        bits *= 2
+    fmask = bits - 1
+    seen = np.zeros(bits >> 3, np.uint8)
     for c in range(n_cells):
         slot = _slot(cells[c], mask)
         while table[slot] >= 0:
             slot = (slot + 1) & mask
         table[slot] = c
+        b = _slot(cells[c], fmask)
+        seen[b >> 3] |= np.uint8(1 << (b & 7))
     count = np.zeros(n_cells + 1, np.int64)
     for q in range(n_runs):
         k = run_key[q]
         here = -1
+        b = _slot(k, fmask)
+        if not (seen[b >> 3] >> (b & 7)) & 1:
+            run_key[q] = here
+            continue
         slot = _slot(k, mask)
         while True:
             c = table[slot]

@@ -113,6 +113,9 @@ CELL_MARGIN = 1e-3
 MIN_FACING = 0.3
 #: Rounds of rejecting bad cells before the pass gives up (and returns the plain mesh).
 ROUNDS = 6
+#: The fans' points are made in the vertex normals' rows where they fit: one spare row per this many
+#: vertices (the benchmark part has one feature cell per 76 vertices at N=512, one per 19 at N=40).
+FAN_ROWS = 8
 
 
 def _unit(v):
@@ -167,10 +170,11 @@ def sharpen(solid, points, faces, origin, h):
     return _sharpen(solid, [points, faces], origin, h)
 
 
-def _sharpen(solid, lent, origin, h):
+def _sharpen(solid, lent, origin, h, overwrite=False):
     """`sharpen` of ``lent = [points, faces]``, a list it empties: when the caller keeps no other
     reference to the points, they are freed once the fans' points are made, before the last stage
-    (at N=1024, some 180 MB of the pass's peak)."""
+    (at N=1024, some 180 MB of the pass's peak).  With `overwrite` the triangles are the caller's to
+    overwrite: the result's are written into their rows where they fit."""
     from implicit.facets import FacetField
 
     points, faces = lent
@@ -204,8 +208,11 @@ def _sharpen(solid, lent, origin, h):
 
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
     # (`index`: each vertex's row among the candidate cells' vertices, -1 for the others)
-    vn, index = np.zeros((n, 3)), np.empty(n, np.int32)
-    work = np.empty(m + 1, np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
+    # (the vertex normals' rows are those of the fans' points later, with rows to spare for the feature
+    # vertices: one array of every vertex made, and its pages faulted in, once)
+    buf = np.zeros((n + n // FAN_ROWS + 64, 3))
+    vn, index = buf[:n], np.empty(n, np.int32)
+    work = np.empty(m + 1, np.int32 if m < 2 ** 31 else np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
                                                                  at_node, vn, *work, index)
     del work, at_node
@@ -249,7 +256,7 @@ def _sharpen(solid, lent, origin, h):
     # -- 4./5. fans and flips, with the cells that fail handed back --------------------------
     feature &= disc           # cells whose patch is not one disc are left alone
     for _ in range(ROUNDS):
-        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x)
+        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x, buf)
         bad = _facing_badly(newp, new_faces, exact, n)
         if not bad.any():
             break
@@ -266,7 +273,7 @@ def _sharpen(solid, lent, origin, h):
     # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
     # corner of the fan that replaced the cell's triangles) is dropped
     n_all = newp.shape[0]
-    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=own,
+    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=own, overwrite_faces=overwrite,
                                       dtype=np.int32 if n_all < 2 ** 31 else np.int64)
     # the feature vertices come last, in the order of their cells
     kept = used[n:]
@@ -413,7 +420,7 @@ def _newton(ff, q, idx, used, h, steps):
     return q, jac
 
 
-def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
+def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x, buf):
     """Fans of the feature cells (whose patch is one disc: `_cell_borders`), and the flips between them.
 
     Returns the new triangles, for each the cells it came from (two for a
@@ -445,7 +452,7 @@ def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
     uk, cnt = np.unique(fk, return_counts=True)
     single = cnt[np.searchsorted(uk, fk)] == 1
     i, j = i[single], j[single]
-    newp = np.concatenate([pts, x[fan_cells]])
+    newp = _points_and(pts, x[fan_cells], buf)
     # (a, b, F1) and (b, a, F2) become (a, F2, F1) and (F2, b, F1)
     a_, b_, f1, f2 = fan[i, 0], fan[i, 1], fan[i, 2], fan[j, 2]
     t1, t2 = np.stack([a_, f2, f1], axis=1), np.stack([f2, b_, f1], axis=1)
@@ -457,6 +464,17 @@ def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
     owner[i] = both
     owner[j] = both
     return fan, owner, fan_cells, newp
+
+
+def _points_and(pts, more, buf):
+    """`pts` then `more` stacked, in the rows of `buf` (whose contents are dead) where they fit."""
+    k = pts.shape[0] + more.shape[0]
+    if k > buf.shape[0]:
+        return np.concatenate([pts, more])
+    out = buf[:k]
+    out[:pts.shape[0]] = pts
+    out[pts.shape[0]:] = more
+    return out
 
 
 def _facing_badly(points, faces, exact, n):
@@ -477,15 +495,20 @@ def sharp_polydata(solid, points, faces, origin, h):
     both attach: ``feature_rank`` and ``feature_facets`` per point, the facet
     names and the count of feature cells.
     """
-    return sharp_polydata_lent(solid, [points, faces], origin, h)
+    return _polydata(solid, [points, faces], origin, h, overwrite=False)
 
 
 def sharp_polydata_lent(solid, lent, origin, h):
     """`sharp_polydata` of ``lent = [points, faces]``, a list it empties, so that the pass can free
-    the points once it no longer needs them (the caller keeps no other reference to them)."""
+    the points once it no longer needs them and write its triangles over the lent ones (the caller
+    keeps no other reference to them)."""
+    return _polydata(solid, lent, origin, h, overwrite=True)
+
+
+def _polydata(solid, lent, origin, h, overwrite):
     from ..files.surface import triangle_surface  # PolyData, or arrays for a job that only writes them
 
-    sharp = _sharpen(solid, lent, origin, h)
+    sharp = _sharpen(solid, lent, origin, h, overwrite=overwrite)
     del lent
     out = triangle_surface(sharp["points"], sharp["faces"])
     out.point_data["feature_rank"] = sharp["feature_rank"]
