@@ -113,9 +113,6 @@ CELL_MARGIN = 1e-3
 MIN_FACING = 0.3
 #: Rounds of rejecting bad cells before the pass gives up (and returns the plain mesh).
 ROUNDS = 6
-#: The fans' points are made in the vertex normals' rows where they fit: one spare row per this many
-#: vertices (the benchmark part has one feature cell per 76 vertices at N=512, one per 19 at N=40).
-FAN_ROWS = 8
 
 
 def _unit(v):
@@ -208,10 +205,7 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
 
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
     # (`index`: each vertex's row among the candidate cells' vertices, -1 for the others)
-    # (the vertex normals' rows are those of the fans' points later, with rows to spare for the feature
-    # vertices: one array of every vertex made, and its pages faulted in, once)
-    buf = np.zeros((n + n // FAN_ROWS + 64, 3))
-    vn, index = buf[:n], np.empty(n, np.int32)
+    vn, index = np.zeros((n, 3)), np.empty(n, np.int32)
     work = np.empty(m + 1, np.int32 if m < 2 ** 31 else np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
                                                                  at_node, vn, *work, index)
@@ -256,7 +250,7 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # -- 4./5. fans and flips, with the cells that fail handed back --------------------------
     feature &= disc           # cells whose patch is not one disc are left alone
     for _ in range(ROUNDS):
-        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x, buf)
+        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x)
         bad = _facing_badly(newp, new_faces, exact, n)
         if not bad.any():
             break
@@ -420,7 +414,7 @@ def _newton(ff, q, idx, used, h, steps):
     return q, jac
 
 
-def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x, buf):
+def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
     """Fans of the feature cells (whose patch is one disc: `_cell_borders`), and the flips between them.
 
     Returns the new triangles, for each the cells it came from (two for a
@@ -452,7 +446,7 @@ def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x, buf):
     uk, cnt = np.unique(fk, return_counts=True)
     single = cnt[np.searchsorted(uk, fk)] == 1
     i, j = i[single], j[single]
-    newp = _points_and(pts, x[fan_cells], buf)
+    newp = np.concatenate([pts, x[fan_cells]])
     # (a, b, F1) and (b, a, F2) become (a, F2, F1) and (F2, b, F1)
     a_, b_, f1, f2 = fan[i, 0], fan[i, 1], fan[i, 2], fan[j, 2]
     t1, t2 = np.stack([a_, f2, f1], axis=1), np.stack([f2, b_, f1], axis=1)
@@ -464,17 +458,6 @@ def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x, buf):
     owner[i] = both
     owner[j] = both
     return fan, owner, fan_cells, newp
-
-
-def _points_and(pts, more, buf):
-    """`pts` then `more` stacked, in the rows of `buf` (whose contents are dead) where they fit."""
-    k = pts.shape[0] + more.shape[0]
-    if k > buf.shape[0]:
-        return np.concatenate([pts, more])
-    out = buf[:k]
-    out[:pts.shape[0]] = pts
-    out[pts.shape[0]:] = more
-    return out
 
 
 def _facing_badly(points, faces, exact, n):
