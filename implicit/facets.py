@@ -548,6 +548,15 @@ def _decide(kind, results):
     `results` holds each child's ``(values, deciding face)``; a difference
     negates its tools' values, a union takes the smallest, the others the largest.
     """
+    if len(results) == 2:
+        # two operands (most Booleans): the second wins where it is strictly better, or a NaN against a
+        # number (what ``argmin`` / ``argmax`` of their stack pick), without the stack and its gathers
+        (a, da), (b, db) = results
+        if kind == "difference":
+            b = b * -1.0
+        second = (b < a) if kind == "union" else (b > a)
+        second |= np.isnan(b) & ~np.isnan(a)
+        return np.where(second, b, a), np.where(second, db, da)
     values = np.stack([r[0] for r in results])
     decs = np.stack([r[1] for r in results])
     if kind == "difference":

@@ -79,7 +79,7 @@ def collapse_fans(points, faces, n, cos_move=COS_MOVE):
 
 
 def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, dtype=np.int64,
-           overwrite_points=False):
+           overwrite_points=False, overwrite_faces=False):
     """The feature mesh's triangles: `faces` not in `drop`, then `new_faces`, with the fans collapsed.
 
     Parameters
@@ -101,6 +101,11 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
     overwrite_points : bool
         Gather the points used at the front of `points` itself (a float64
         array) and return a view of them, instead of a copy.
+    overwrite_faces : bool
+        Write the triangles into the rows of `faces` itself and return a
+        view of them, where `faces` is a C-contiguous array of `dtype` with
+        rows enough (each row is written after the rows it is read from);
+        else into a new array.
 
     Returns
     -------
@@ -126,15 +131,19 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
         raise ValueError(f"dtype: expected numpy.int32 or numpy.int64, got {dtype}")
     if dtype == np.int32 and n_p >= 2 ** 31:
         raise ValueError(f"dtype: int32 triangles cannot index {n_p} points")
-    # the arrays over every point or triangle are made here and handed to the kernel; the results are cut
-    # to their length from bounds (2 triangles per collapse, the points not used)
+    # the arrays over every point or triangle are made here and handed to the kernels; the triangles'
+    # array is the input's own where it may be and has rows enough, else one of the exact length
     ix = np.int32 if n_p < 2 ** 31 - 1 else np.int64
-    out = np.empty((f.shape[0] - int(np.count_nonzero(drop)) + new.shape[0], 3), dtype)
     # (the points are gathered forwards, each to a row at or before its own: in place is safe)
     pout = p if overwrite_points or not renumber else np.empty((n_p, 3))
     into, start = np.empty(n_p, ix), np.empty(n_p + 1, ix)
-    n_out, used, c, n_used = _finish(p, f, drop, new, np.int64(n), float(cos_move), bool(renumber), into, start,
-                                     out, pout)
+    local, source, n_near, dropped, used, c, n_out = _collapse_near(p, f, drop, new, np.int64(n), float(cos_move),
+                                                                    into, start)
+    if overwrite_faces and f is faces and f.dtype == dtype and n_out <= f.shape[0]:
+        out = f
+    else:
+        out = np.empty((n_out, 3), dtype)
+    n_used = _write(p, f, drop, local, source, n_near, dropped, used, bool(renumber), into, start, out, pout)
     return out[:n_out], used, c, pout[:n_used]
 
 
@@ -147,9 +156,10 @@ def _normal(p, a, b, c, ax, ay, az):
 
 
 @numba.njit(cache=True, nogil=True)
-def _finish(p, f, drop, new, n, cos_move, renumber, into, start, out, pout):
-    """`finish` into the buffers `into` (p,), `start` (p + 1,), `out` and `pout` (bounds); returns the
-    rows of `out` and `pout` written, `used` and the count of collapses."""
+def _collapse_near(p, f, drop, new, n, cos_move, into, start):
+    """The collapses of `finish` on the triangles near the fans (gathered: `local`, of which the first
+    `n_near` are the rows `source` of `f`), into `into` (p,) and with `start` (p + 1,) as work; returns
+    them, the local triangles dropped, `used`, the count of collapses and of the triangles out."""
     m = f.shape[0]
     n_p = p.shape[0]
     # the vertices near the fans (those of the new triangles) and every triangle around them, local
@@ -195,6 +205,19 @@ def _finish(p, f, drop, new, n, cos_move, renumber, into, start, out, pout):
     for v in range(n_p):
         if into[v] != v:
             used[v] = False
+    n_out = n_kept + new.shape[0]
+    for s in range(k):
+        n_out -= dropped[s]
+    return faces, source, n_near, dropped, used, c, n_out
+
+
+@numba.njit(cache=True, nogil=True)
+def _write(p, f, drop, faces, source, n_near, dropped, used, renumber, into, start, out, pout):
+    """The triangles of `finish` into `out` (which may be `f` itself: row ``r`` is written once rows
+    ``<= r`` of `f` are read) and the points used into `pout`; returns the count of points used."""
+    m = f.shape[0]
+    n_p = p.shape[0]
+    k = faces.shape[0]
     index = start      # (free once the collapses are made)
     q = 0
     for v in range(n_p):
@@ -212,8 +235,10 @@ def _finish(p, f, drop, new, n, cos_move, renumber, into, start, out, pout):
                 r += 1
             s += 1
         else:
-            for j in range(3):
-                out[r, j] = index[f[t, j]]
+            a, b, c = f[t, 0], f[t, 1], f[t, 2]
+            out[r, 0] = index[a]
+            out[r, 1] = index[b]
+            out[r, 2] = index[c]
             r += 1
     for s in range(n_near, k):
         if not dropped[s]:
@@ -226,7 +251,7 @@ def _finish(p, f, drop, new, n, cos_move, renumber, into, start, out, pout):
         if used[v] or not renumber:
             pout[q, 0] = p[v, 0]; pout[q, 1] = p[v, 1]; pout[q, 2] = p[v, 2]
             q += 1
-    return r, used, c, q
+    return q
 
 
 @numba.njit(cache=True, nogil=True)

@@ -10,15 +10,16 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    cells are evaluated further (a few per cent of the mesh);
 2. exact normals: every such vertex is attributed to the CSG face deciding
    the field there (`implicit.facets.FacetField`: the primitive leaf, or one
-   face of a box or cylinder) and takes that face's gradient, in closed
+   face of a box or cylinder); a cell whose vertices all lie on one smooth
+   facet (a sphere, a torus, a plane: `implicit.facets.SMOOTH_KINDS`) is none,
+   and the vertices of the others take their face's gradient, in closed
    form (`FacetField.gradients_of`);
 3. the feature vertex: per cell, the quadric ``sum (n_i . (x - p_i))^2`` over
    the cell's vertices is minimised around their mass point with the
    pseudo-inverse of ``A^T A`` whose eigenvalues below ``EIGEN_CUTOFF`` times
    the largest are dropped; the number kept is the cell's rank (2: an edge,
-   3: a corner); a cell whose vertices all lie on one smooth facet (a
-   sphere, a torus, a plane: `implicit.facets.SMOOTH_KINDS`) is none,
-   whatever its rank at a coarse voxel.  When the cell holds exactly that many faces, a few
+   3: a corner), whatever the rank a cell on one smooth facet would have
+   at a coarse voxel.  When the cell holds exactly that many faces, a few
    Gauss-Newton steps on their fields put the vertex on their exact common
    curve or point (curved faces included).  An edge point that falls
    outside its cell slides along the curve's tangent into it and is put
@@ -38,12 +39,14 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
    manifold and turns no triangle much, so the feature mesh has about as
    many triangles as the plain one.
 
-The stages run as a few compiled functions (`feature_kernels`: the node
+The stages run as a few compiled functions (`feature_cells`: the node
 tests, the candidate cells found by runs of one cell's triangles and grouped
-by one hash probe per run and a counting sort, the QEF solved by Jacobi
-rotations per cell with the labels and the patch borders;
+by one hash probe per run and a counting sort; `feature_kernels`: the cells'
+faces, the QEF solved by Jacobi rotations per cell with the patch borders;
 `feature_collapse.finish`), between the calls into the solid's facets, which
-stay numpy.  Their arrays over every vertex or triangle are made by the
+stay numpy.  Only the walks of stage 1 and of the collapse's output read every
+triangle; the rest grows with the candidate cells, and the exact normals and the
+QEF only with the cells not on one smooth facet (near the feature curves).  Their arrays over every vertex or triangle are made by the
 caller, as small as they can be (int8 axes, int32 indices and triangles, the
 exact normals only where they are needed), and the mesher lends the pass its
 points (`sharp_polydata_lent`), freed as soon as the fans' points are made.
@@ -87,7 +90,8 @@ import numpy as np
 
 from .arrays import _release_free_memory
 from .feature_collapse import finish
-from .feature_kernels import _cells, _facing_kernel, _newton_step, _nodes, _solve_cells
+from .feature_cells import _cells, _nodes
+from .feature_kernels import _cell_faces, _facing_kernel, _newton_step, _solve_cells
 
 __all__ = ["sharpen", "sharp_polydata", "sharp_polydata_lent", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
@@ -163,10 +167,11 @@ def sharpen(solid, points, faces, origin, h):
     return _sharpen(solid, [points, faces], origin, h)
 
 
-def _sharpen(solid, lent, origin, h):
+def _sharpen(solid, lent, origin, h, overwrite=False):
     """`sharpen` of ``lent = [points, faces]``, a list it empties: when the caller keeps no other
     reference to the points, they are freed once the fans' points are made, before the last stage
-    (at N=1024, some 180 MB of the pass's peak)."""
+    (at N=1024, some 180 MB of the pass's peak).  With `overwrite` the triangles are the caller's to
+    overwrite: the result's are written into their rows where they fit."""
     from implicit.facets import FacetField
 
     points, faces = lent
@@ -201,7 +206,7 @@ def _sharpen(solid, lent, origin, h):
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
     # (`index`: each vertex's row among the candidate cells' vertices, -1 for the others)
     vn, index = np.zeros((n, 3)), np.empty(n, np.int32)
-    work = np.empty(m + 1, np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
+    work = np.empty(m + 1, np.int32 if m < 2 ** 31 else np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
                                                                  at_node, vn, *work, index)
     del work, at_node
@@ -210,25 +215,34 @@ def _sharpen(solid, lent, origin, h):
     n_cells = cand.shape[0]
     vn = vn[verts]
 
-    # -- 2. exact normals at the vertices of the candidate cells ------------------------------
-    # the exact normal of the face deciding the field (closed forms; forward steps of 1e-6 h where none)
+    # -- 2. exact normals at the vertices of the candidate cells that may hold an edge --------
+    # the deciding facets of every candidate vertex, which rule out the cells on one smooth facet (most of
+    # them: a sphere's, a plane's chamfer-free turns); the exact normal of the face deciding the field only
+    # at the vertices of the others (closed forms; forward steps of 1e-6 h where none)
     at_verts = pts[verts]
     decider = np.asarray(ff.decide(at_verts)[1], dtype=np.int64)
-    normal = _unit(ff.gradients_of(at_verts, decider, 1e-6 * h))
-    normal *= np.where(np.einsum("ij,ij->i", normal, vn) < 0, -1.0, 1.0)[:, None]
-    del vn, at_verts
+    need = np.zeros(verts.shape[0], np.bool_)
+    labels, n_faces, open_cells = _cell_faces(pinv, decider, starts, ff.smooth, need)
+    rows = np.flatnonzero(need)
+    normal = np.zeros((verts.shape[0], 3))
+    if rows.shape[0]:
+        g = _unit(ff.gradients_of(at_verts[rows], decider[rows], 1e-6 * h))
+        g *= np.where(np.einsum("ij,ij->i", g, vn[rows]) < 0, -1.0, 1.0)[:, None]
+        normal[rows] = g
+        del g
+    del vn, at_verts, need, rows
     exact = (normal, index)
     _release_free_memory()    # the facets' temporaries, freed but kept by the heap, before the fans' points
 
-    # -- 3. QEF per cell ---------------------------------------------------------------------
-    # (with the faces in each cell, most frequent first: the labels, and the surfaces to solve on; and
-    # the border of each cell's patch)
-    x, rank, labels, n_faces, b0, b1, bc, disc = _solve_cells(pts, f, tri, tcell, pvert, normal, pinv, starts,
-                                                              decider, EIGEN_CUTOFF)
+    # -- 3. QEF per open cell ----------------------------------------------------------------
+    # (the border of each cell's patch, for the cells of rank 2 or more; the faces in each cell, most
+    # frequent first, are the labels and the surfaces to solve on)
+    x, rank, b0, b1, bc, disc = _solve_cells(pts, f, tri, tcell, pvert, normal, pinv, starts, open_cells,
+                                             EIGEN_CUTOFF)
     cell_lo = origin + (np.stack([cand // (s * s), (cand // s) % s, cand % s], axis=1) + lo) * h
-    # a cell on one smooth face (a sphere, torus, plane...) holds no edge, however much the face turns
-    # across it at a coarse voxel (its QEF then reads as two planes)
-    feature = (rank >= 2) & ~((n_faces == 1) & ff.smooth[np.maximum(labels[:, 0], 0)])
+    # (a cell on one smooth face, not open, holds no edge however much the face turns across it at a coarse
+    # voxel, where its QEF would read as two planes: it was given rank 0)
+    feature = rank >= 2
     x = _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h)
     margin = CELL_MARGIN * h
     x = np.clip(x, cell_lo + margin, cell_lo + h - margin)
@@ -253,7 +267,7 @@ def _sharpen(solid, lent, origin, h):
     # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
     # corner of the fan that replaced the cell's triangles) is dropped
     n_all = newp.shape[0]
-    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=own,
+    out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=own, overwrite_faces=overwrite,
                                       dtype=np.int32 if n_all < 2 ** 31 else np.int64)
     # the feature vertices come last, in the order of their cells
     kept = used[n:]
@@ -464,15 +478,20 @@ def sharp_polydata(solid, points, faces, origin, h):
     both attach: ``feature_rank`` and ``feature_facets`` per point, the facet
     names and the count of feature cells.
     """
-    return sharp_polydata_lent(solid, [points, faces], origin, h)
+    return _polydata(solid, [points, faces], origin, h, overwrite=False)
 
 
 def sharp_polydata_lent(solid, lent, origin, h):
     """`sharp_polydata` of ``lent = [points, faces]``, a list it empties, so that the pass can free
-    the points once it no longer needs them (the caller keeps no other reference to them)."""
+    the points once it no longer needs them and write its triangles over the lent ones (the caller
+    keeps no other reference to them)."""
+    return _polydata(solid, lent, origin, h, overwrite=True)
+
+
+def _polydata(solid, lent, origin, h, overwrite):
     from ..files.surface import triangle_surface  # PolyData, or arrays for a job that only writes them
 
-    sharp = _sharpen(solid, lent, origin, h)
+    sharp = _sharpen(solid, lent, origin, h, overwrite=overwrite)
     del lent
     out = triangle_surface(sharp["points"], sharp["faces"])
     out.point_data["feature_rank"] = sharp["feature_rank"]

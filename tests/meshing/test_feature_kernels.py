@@ -6,8 +6,8 @@ from parts import benchmark_part
 
 from spatial.meshing import mesh
 from spatial.meshing.feature_collapse import finish
-from spatial.meshing.feature_kernels import _candidate_cells, _group_cells, _sorted_unique
-from spatial.meshing.features import COS_CANDIDATE, sharp_polydata_lent, sharpen
+from spatial.meshing.feature_cells import _candidate_cells, _group_cells, _sorted_unique
+from spatial.meshing.features import COS_CANDIDATE, sharp_polydata, sharp_polydata_lent, sharpen
 
 
 def _grid_mesh(n=6, seed=0):
@@ -17,9 +17,9 @@ def _grid_mesh(n=6, seed=0):
     got = {}
     real = features._sharpen
 
-    def spy(solid, lent, origin, h):
+    def spy(solid, lent, origin, h, **kw):
         got.update(points=lent[0].copy(), faces=lent[1].copy(), origin=np.array(origin), h=float(h))
-        return real(solid, lent, origin, h)
+        return real(solid, lent, origin, h, **kw)
 
     features._sharpen = spy
     try:
@@ -105,6 +105,18 @@ def test_finish_into_int32_and_in_place_is_the_same(captured):
     assert got[0].dtype == np.int32 and np.array_equal(got[0], ref[0])
     assert np.array_equal(got[1], ref[1]) and got[2] == ref[2]
     assert np.array_equal(got[3], ref[3]) and np.shares_memory(got[3], work)
+    # the triangles written over the input's rows where they fit, else into a new array
+    mine = faces.astype(np.int32)
+    fit = finish(pts, mine, drop, new, 36, dtype=np.int32, overwrite_faces=True)
+    assert np.array_equal(fit[0], ref[0]) and np.shares_memory(fit[0], mine)
+    # (no feature vertex, nothing dropped: six rows more than the input has)
+    grow = finish(pts, faces, np.zeros(30, np.bool_), new, 40, dtype=np.int32)
+    mine = faces.astype(np.int32)
+    got = finish(pts, mine, np.zeros(30, np.bool_), new, 40, dtype=np.int32, overwrite_faces=True)
+    assert got[0].shape == (36, 3) and np.array_equal(got[0], grow[0]) and not np.shares_memory(got[0], mine)
+    wide = faces.copy()
+    kept = finish(pts, wide, drop, new, 36, dtype=np.int32, overwrite_faces=True)
+    assert np.array_equal(kept[0], ref[0]) and np.array_equal(wide, faces)     # int64 rows are not int32's
     with pytest.raises(ValueError, match="overwrite_points"):
         finish(pts.astype(np.float32), faces, drop, new, 36, overwrite_points=True)
     with pytest.raises(ValueError, match="dtype"):
@@ -115,9 +127,35 @@ def test_sharpen_leaves_its_inputs_and_lent_arrays_are_taken(captured):
     pts, faces = captured["points"].copy(), captured["faces"].copy()
     sharpen(benchmark_part(), pts, faces, captured["origin"], captured["h"])
     assert np.array_equal(pts, captured["points"]) and np.array_equal(faces, captured["faces"])
+    ref = sharp_polydata(benchmark_part(), pts, faces, captured["origin"], captured["h"])
+    assert np.array_equal(pts, captured["points"]) and np.array_equal(faces, captured["faces"])
     lent = [pts, faces]
     out = sharp_polydata_lent(benchmark_part(), lent, captured["origin"], captured["h"])
     assert lent == [] and out.n_cells > 0
+    # the lent triangles' rows hold the result's (no second array of every triangle)
+    assert np.shares_memory(np.asarray(out.regular_faces), faces) or out.n_cells > faces.shape[0]
+    assert np.array_equal(out.regular_faces, ref.regular_faces) and np.array_equal(out.points, ref.points)
     m = mesh(benchmark_part(), resolution=48, progress=False)
     assert m.regular_faces.dtype == np.int32
     assert int((m.point_data["feature_rank"] == 3).sum()) > 0
+
+
+def test_cell_faces_open_the_cells_not_on_one_smooth_facet():
+    """Cells whose vertices all lie on one smooth facet are closed; only the open cells' vertices are asked for."""
+    from spatial.meshing.feature_kernels import _cell_faces, _cell_labels
+
+    rng = np.random.default_rng(11)
+    n_cells, n_verts = 200, 300
+    sizes = rng.integers(3, 8, n_cells)
+    starts = np.r_[0, np.cumsum(sizes)].astype(np.int64)
+    pinv = rng.integers(0, n_verts, starts[-1]).astype(np.int64)
+    decider = np.where(rng.random(n_verts) < 0.8, 0, rng.integers(1, 4, n_verts)).astype(np.int64)
+    smooth = np.array([True, False, True, True])
+    need = np.zeros(n_verts, np.bool_)
+    labels, n_faces, open_cells = _cell_faces(pinv, decider, starts, smooth, need)
+    want_labels, want_n = _cell_labels(pinv, decider, starts)
+    assert np.array_equal(labels, want_labels) and np.array_equal(n_faces, want_n)
+    want_open = ~((want_n == 1) & smooth[want_labels[:, 0]])
+    assert np.array_equal(open_cells, want_open) and 0 < want_open.sum() < n_cells
+    cell = np.repeat(np.arange(n_cells), sizes)
+    assert np.array_equal(need, np.isin(np.arange(n_verts), pinv[want_open[cell]]))
