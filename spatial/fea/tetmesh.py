@@ -1,7 +1,8 @@
 """Tetrahedral meshes of solids for finite-element analysis.
 
 `tet_mesh` remeshes the solid's boundary (`surface_for_fea`), fills it with
-TetGen's quality Delaunay refinement, removes the slivers TetGen leaves by
+TetGen's quality Delaunay refinement (the bulk from a lattice of interior
+points clear of the surface, `interior_lattice`), removes the slivers TetGen leaves by
 smoothing interior vertices (each candidate position is scored by the worst
 dihedral angle of the elements around the vertex), then, for those left, by
 boundary vertices sliding on the surface, flips and edge removal
@@ -174,7 +175,8 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     says so.  For order 2, a flat boundary element in the way of a curved edge (its corners on a
     hole's rim) is removed so that every boundary mid-edge node lies on the surface with every
     Jacobian proven positive: ``info["removed_for_curving"]`` counts them, ``info["off_surface_nodes"]``
-    the nodes still left on their chord.  ``info["seconds"]`` holds the wall-clock time of the stages
+    the nodes still left on their chord.  ``info["lattice_points"]`` counts the interior lattice
+    points given to TetGen (none with a graded size).  ``info["seconds"]`` holds the wall-clock time of the stages
     (surface, tetgen, smoothing, checks).
 
     Examples
@@ -368,7 +370,18 @@ LATTICE_CLEARANCE = 0.6
 
 def interior_lattice(solid, surface_points, size):
     """Points of a body-centred cubic lattice of spacing ``LATTICE_SPACING * size`` inside `solid`,
-    at least ``LATTICE_CLEARANCE * size`` from its boundary and from the `surface_points`."""
+    at least ``LATTICE_CLEARANCE * size`` from its boundary and from the `surface_points`.
+
+    TetGen keeps them as nodes and fills the gap to the surface by its own refinement; the
+    cube's sides and half diagonals make edges of 0.87 to 1 times `size`.
+
+    Examples
+    --------
+    >>> from implicit import box
+    >>> corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+    >>> interior_lattice(box(2.0), corners, 1.0).tolist()
+    [[0.0, 0.0, 0.0]]
+    """
     from scipy.spatial import cKDTree
 
     step = LATTICE_SPACING * size
