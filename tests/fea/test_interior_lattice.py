@@ -40,3 +40,7 @@ def test_tet_mesh_fills_the_bulk_from_the_lattice_at_the_asked_quality():
     assert m.quality.min_dihedral >= 10.0 and m.quality.max_radius_edge <= 3.0
     # The lattice points are nodes of the mesh (TetGen keeps every input point).
     assert m.info["tetgen_points"] >= m.info["surface_points"] + m.info["lattice_points"]
+    # Edges of about the size asked, not finer (the lattice's cube side is the size).
+    e = np.unique(np.sort(m.tets[:, [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]]].reshape(-1, 2), axis=1), axis=0)
+    median = float(np.median(np.linalg.norm(m.points[e[:, 0]] - m.points[e[:, 1]], axis=1)))
+    assert 0.75 * SIZE < median < 1.05 * SIZE
