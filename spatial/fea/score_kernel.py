@@ -44,14 +44,17 @@ def _score(x, min_d, hi_scale, re, min_g, opp, edges, edge_faces):
     """Score and signed volume of the tetrahedron with corners ``x`` (4, 3)."""
     n = np.empty((4, 3))
     _face_normals(x, opp, n)
-    lo, hi = 180.0, 0.0
+    # The dihedral angle 180 - acos(cos) grows with the cosine of the face normals: two arc cosines
+    # (of the extreme cosines) instead of six.
+    cmin, cmax = 1.0, -1.0
     for e in range(6):
         f, g = edge_faces[e, 0], edge_faces[e, 1]
         cos = n[f, 0] * n[g, 0] + n[f, 1] * n[g, 1] + n[f, 2] * n[g, 2]
         cos = min(1.0, max(-1.0, cos))
-        ang = 180.0 - math.degrees(math.acos(cos))
-        lo = min(lo, ang)
-        hi = max(hi, ang)
+        cmin = min(cmin, cos)
+        cmax = max(cmax, cos)
+    lo = 180.0 - math.degrees(math.acos(cmin))
+    hi = 180.0 - math.degrees(math.acos(cmax))
     sc = min(lo, (180.0 - hi) * hi_scale)
     a0, a1, a2 = x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2]
     b0, b1, b2 = x[2, 0] - x[0, 0], x[2, 1] - x[0, 1], x[2, 2] - x[0, 2]

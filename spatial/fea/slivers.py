@@ -20,7 +20,6 @@ import numpy as np
 
 from .facets import project_to_surface
 from .model import SIDE_NODES
-from .quality import dihedral_angles
 from .score_kernel import element_scores, moved_scores
 
 __all__ = ["boundary_faces", "element_score", "flip23", "improve", "peel", "score"]
@@ -171,7 +170,8 @@ def peel(points, tets, min_dihedral, max_dihedral):
     boundary (the boundary would stop being manifold).  Returns the elements
     left and how many were removed.
     """
-    sc = score(dihedral_angles(points, tets), min_dihedral, max_dihedral)
+    # `score` of the dihedral angles alone, in one compiled pass (the numpy angles cost 0.03 s at 24,000 elements).
+    sc = element_scores(points, tets, min_dihedral, max_dihedral, None, 0.0)
     bad = np.nonzero(sc < min_dihedral)[0]
     if bad.size == 0:
         return tets, 0

@@ -1,7 +1,8 @@
 """Tetrahedral meshes of solids for finite-element analysis.
 
 `tet_mesh` remeshes the solid's boundary (`surface_for_fea`), fills it with
-TetGen's quality Delaunay refinement, removes the slivers TetGen leaves by
+TetGen's quality Delaunay refinement (the bulk from a lattice of interior
+points clear of the surface, `interior_lattice`), removes the slivers TetGen leaves by
 smoothing interior vertices (each candidate position is scored by the worst
 dihedral angle of the elements around the vertex), then, for those left, by
 boundary vertices sliding on the surface, flips and edge removal
@@ -174,7 +175,8 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     says so.  For order 2, a flat boundary element in the way of a curved edge (its corners on a
     hole's rim) is removed so that every boundary mid-edge node lies on the surface with every
     Jacobian proven positive: ``info["removed_for_curving"]`` counts them, ``info["off_surface_nodes"]``
-    the nodes still left on their chord.  ``info["seconds"]`` holds the wall-clock time of the stages
+    the nodes still left on their chord.  ``info["lattice_points"]`` counts the interior lattice
+    points given to TetGen (none with a graded size).  ``info["seconds"]`` holds the wall-clock time of the stages
     (surface, tetgen, smoothing, checks).
 
     Examples
@@ -240,8 +242,16 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     expected_nodes = int(enclosed / (_REGULAR_VOLUME * size**3) / 5.0) + len(spts)
     cap = int(steiner_cap) if steiner_cap is not None else 20 * expected_nodes + 1000
     clock.append(time.perf_counter())
-    tg = tetgen.TetGen(spts, sfaces.astype(np.int32))
-    switches = (f"pq{min(radius_edge, TETGEN_RADIUS_EDGE):g}/{min(min_dihedral, TETGEN_MIN_DIHEDRAL):g}a{_REGULAR_VOLUME * size**3:.6g}"
+    # TetGen's own refinement inserts its interior points one by one, rejecting those that encroach
+    # on the kept surface: most of its time.  A lattice clear of the surface fills the bulk at once.
+    inner = interior_lattice(solid, spts, size) if field is None or field.uniform else np.zeros((0, 3))
+    if len(inner) < LATTICE_MIN_POINTS:
+        inner = np.zeros((0, 3))  # a few points (a beam 10 thick at size 5: 19) do not pay for the change
+    info["lattice_points"] = int(len(inner))
+    tg = tetgen.TetGen(np.concatenate([spts, inner]), sfaces.astype(np.int32))
+    # (Order 2 keeps the regular volume: with the larger one the benchmark part at 0.2 left a mid node off its surface.)
+    volume = _REGULAR_VOLUME * size**3 * (LATTICE_VOLUME_FACTOR if len(inner) and order == 1 else 1.0)
+    switches = (f"pq{min(radius_edge, TETGEN_RADIUS_EDGE):g}/{min(min_dihedral, TETGEN_MIN_DIHEDRAL):g}a{volume:.6g}"
                 f"o/{max_dihedral:g}{TETGEN_OPTIMIZE}S{cap}{_KEEP_SURFACE}Q")
     try:
         with _scratch_directory(), _native_stdout_silenced():
@@ -354,6 +364,47 @@ SLIVER_ROUNDS = 3
 
 #: Finer surface sizes tried, as factors of `size`, when the surface intersects itself at `size`.
 SURFACE_RETRIES = (1.0, 0.8, 0.64, 0.512)
+
+
+#: Spacing of the body-centred cubic lattice of interior points, as a factor of `size`.
+LATTICE_SPACING = 1.0
+#: Fewest lattice points worth giving TetGen; below it TetGen refines the volume on its own as before.
+LATTICE_MIN_POINTS = 200
+#: TetGen's volume bound beside the lattice, as a factor of the regular tetrahedron's of edge `size`: with
+#: 1.5 the median edge is `size` (benchmark part at 0.08: 0.080, 19,070 elements; with 1: 0.077, 23,769;
+#: TetGen's own refinement of the bulk: 0.074, 25,759).
+LATTICE_VOLUME_FACTOR = 1.5
+#: Least distance of a lattice point from the surface (field value and nearest surface vertex), times `size`.
+LATTICE_CLEARANCE = 0.6
+
+
+def interior_lattice(solid, surface_points, size):
+    """Points of a body-centred cubic lattice of spacing ``LATTICE_SPACING * size`` inside `solid`,
+    at least ``LATTICE_CLEARANCE * size`` from its boundary and from the `surface_points`.
+
+    TetGen keeps them as nodes and fills the gap to the surface by its own refinement; the
+    cube's sides and half diagonals make edges of 0.87 to 1 times `size`.
+
+    Examples
+    --------
+    >>> from implicit import box
+    >>> corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+    >>> interior_lattice(box(2.0), corners, 1.0).tolist()
+    [[0.0, 0.0, 0.0]]
+    """
+    from scipy.spatial import cKDTree
+
+    step = LATTICE_SPACING * size
+    lo, hi = surface_points.min(axis=0), surface_points.max(axis=0)
+    axes = [np.arange(lo[i] + 0.5 * step, hi[i], step) for i in range(3)]
+    cube = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    pts = np.concatenate([cube, cube + 0.5 * step])
+    clear = LATTICE_CLEARANCE * size
+    pts = pts[np.asarray(solid(pts)) < -clear]
+    if len(pts):
+        dist, _ = cKDTree(surface_points).query(pts, distance_upper_bound=clear)
+        pts = pts[~np.isfinite(dist)]
+    return pts
 
 
 def _surface_for(solid, size, volume=None, allowed=None, field=None):
