@@ -34,6 +34,7 @@ from .facets import FacetField
 from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
                       surface_for_fea)
 from .curved import OFF_SURFACE, curve_boundary
+from .boundary_repair import slide_boundary_nodes
 from .graded_surface import CAP_FACTOR, QUALITY_CAPS, graded_surface, poor_element_nodes, surface_info
 from .size_field import curvature_size
 from .resolve import resolving_field
@@ -287,6 +288,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
                                               radius_edge=radius_edge, seed=seed + 2, solid=solid, slide=slide,
                                               rounds=SLIVER_ROUNDS)
         info.update({k: v for k, v in counts.items() if v})
+        nodes, info["boundary_moves"] = slide_boundary_nodes(nodes, elems, solid, slide, min_dihedral, max_dihedral, radius_edge)
         if counts["flips"] or counts["inserted_points"]:
             bfaces, belem, bside = boundary_faces(elems)
     clock.append(time.perf_counter())
