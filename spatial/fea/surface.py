@@ -510,8 +510,8 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         The marching-cubes mesh a `Solid` is clustered from: its feature mesh
         (`spatial.mesh(..., features=True)`, the default for a uniform size),
         or the plain mesh of the solid grown by a twentieth of a voxel (the
-        default with a graded `size_field`: the weighted clusters of the gear's
-        tooth roots turned a triangle over on the feature mesh).  Either way the
+        default with a graded `size_field`; `tet_mesh` starts those from the
+        feature mesh, `spatial.fea.graded_surface`).  Either way the
         feature mesh's corners become nodes.  A surface from the feature mesh
         that intersects itself is made again from the plain mesh
         (``field_data["start"]`` says which one was used).
