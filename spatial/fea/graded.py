@@ -106,6 +106,33 @@ class SizeField:
         out._bands = [(h, tree) for h, tree in self._bands if h < out.size]
         return out
 
+    def refined(self, points, sizes) -> "SizeField":
+        """The field with more sources: at most ``sizes[i] + growth * |x - points[i]|`` near each of `points`.
+
+        Examples
+        --------
+        >>> f = SizeField(5.0).refined([[0.0, 0.0, 0.0]], [2.0])
+        >>> f.smallest, f([[0.0, 0.0, 0.0], [5.0, 0.0, 0.0], [50.0, 0.0, 0.0]]).round(3).tolist()
+        (2.0, [2.0, 3.5, 5.0])
+        """
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        h = np.asarray(sizes, dtype=np.float64).reshape(-1)
+        if p.shape[0] != h.shape[0]:
+            raise ValueError(f"sizes: expected one size per point ({p.shape[0]}), got {h.shape[0]}")
+        keep = np.isfinite(h) & (h < self.size)
+        p, h = p[keep], h[keep]
+        out = self.scaled(1.0)
+        if h.size:
+            from scipy.spatial import cKDTree
+
+            out.smallest = min(self.smallest, float(h.min()))
+            # New bands of their own: a query takes the least over all bands, whichever they are.
+            level = np.floor(np.log(h / float(h.min())) / np.log(BAND_RATIO) + 1e-9).astype(np.int64)
+            for lv in np.unique(level):
+                sel = level == lv
+                out._bands.append((float(h[sel].min()), cKDTree(p[sel])))
+        return out
+
     @property
     def uniform(self) -> bool:
         """Whether the field is the size asked everywhere."""

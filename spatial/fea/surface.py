@@ -44,6 +44,7 @@ __all__ = [
 
 #: Angle (degrees) under which a snapped triangle is rejected and its vertices unsnapped.
 SNAP_MIN_ANGLE = 12.0
+FLIP_COSINE = 0.1  #: least cosine of a flipped triangle's normal and the sum of the old two unit normals
 #: Rounds of feature snapping and tangential relaxation.
 SNAP_ROUNDS = 4
 
@@ -281,6 +282,9 @@ def _flip_across_features(ff: FacetField, points, faces, fixed, evaluated=None, 
     ref = n_old[f1] + n_old[f2]
     ok = (np.einsum("ij,ij->i", _normals(points, t1), ref) > 0) & (np.einsum("ij,ij->i", _normals(points, t2), ref) > 0)
     ok &= (_triangle_angles(points, t1).min(axis=1) > SNAP_MIN_ANGLE) & (_triangle_angles(points, t2).min(axis=1) > SNAP_MIN_ANGLE)
+    # Three nodes of a feature curve round its bend (a gear's tooth tip) make a triangle square to both old ones: turned over.
+    u1, u2, v1, v2 = (x / np.maximum(np.linalg.norm(x, axis=1), 1e-300)[:, None] for x in (n_old[f1], n_old[f2], _normals(points, t1), _normals(points, t2)))
+    ok &= (np.einsum("ij,ij->i", v1, u1 + u2) > FLIP_COSINE) & (np.einsum("ij,ij->i", v2, u1 + u2) > FLIP_COSINE)
     out = faces.copy()
     out[f1[ok]] = t1[ok]
     out[f2[ok]] = t2[ok]
@@ -506,8 +510,8 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         The marching-cubes mesh a `Solid` is clustered from: its feature mesh
         (`spatial.mesh(..., features=True)`, the default for a uniform size),
         or the plain mesh of the solid grown by a twentieth of a voxel (the
-        default with a graded `size_field`: the weighted clusters of the gear's
-        tooth roots turned a triangle over on the feature mesh).  Either way the
+        default with a graded `size_field`; `tet_mesh` starts those from the
+        feature mesh, `spatial.fea.graded_surface`).  Either way the
         feature mesh's corners become nodes.  A surface from the feature mesh
         that intersects itself is made again from the plain mesh
         (``field_data["start"]`` says which one was used).

@@ -35,6 +35,8 @@ from .facets import FacetField
 from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
                       surface_for_fea)
 from .curved import OFF_SURFACE, curve_boundary
+from .boundary_repair import slide_boundary_nodes
+from .graded_surface import CAP_FACTOR, QUALITY_CAPS, graded_surface, poor_element_nodes, surface_info
 from .size_field import curvature_size
 from .resolve import resolving_field
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
@@ -104,7 +106,7 @@ def _name_sets(ff, points, boundary, boundary_side, boundary_element, tets):
 
 def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_dihedral=165.0,
              surface=None, steiner_cap=None, volume_tolerance=0.005, allow_poor=False, seed=0,
-             reference_volume=None) -> TetMesh:
+             reference_volume=None, _graded=None) -> TetMesh:
     """Tetrahedral mesh of `solid` with elements of edge length about `size`.
 
     Parameters
@@ -176,8 +178,10 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     hole's rim) is removed so that every boundary mid-edge node lies on the surface with every
     Jacobian proven positive: ``info["removed_for_curving"]`` counts them, ``info["off_surface_nodes"]``
     the nodes still left on their chord.  ``info["lattice_points"]`` counts the interior lattice
-    points given to TetGen (none with a graded size).  ``info["seconds"]`` holds the wall-clock time of the stages
-    (surface, tetgen, smoothing, checks).
+    points given to TetGen (none with a graded size).  A graded part (gaps narrower than `size`)
+    whose elements miss the quality is meshed again with its size field capped around them
+    (`spatial.fea.graded_surface.QUALITY_CAPS` times at most; ``info["quality_caps"]``).
+    ``info["seconds"]`` holds the wall-clock time of the stages (surface, tetgen, smoothing, checks).
 
     Examples
     --------
@@ -213,7 +217,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     if surface is None:
         # A gap narrower than the size (between gear teeth) would be bridged: a size graded from
         # it (spatial.fea.graded), refused before any work where even that cannot follow it.
-        field = resolving_field(solid, size)
+        field = resolving_field(solid, size) if _graded is None else _graded[0]
 
     import tetgen
 
@@ -221,12 +225,13 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     clock = [time.perf_counter()]
     estimate = None
     if surface is None:
-        estimate, est_err = _solid_volume(solid, reference_volume)
+        estimate, est_err = _solid_volume(solid, reference_volume) if _graded is None else _graded[2]
         # Order 2 adds the curvature the chords miss: its linear surface may miss more.
         allowed = (volume_tolerance + est_err) * order
         # 10-node elements: edges short enough for their mid nodes to go onto curved faces
         surface, info["surface_size"] = _surface_for(solid, size if order == 1 else curvature_size(solid, size),
                                                      estimate, allowed, field)
+        info.update(surface_info(surface))
         sfaces = mesh_faces(surface)
     else:
         # TetGen aborts the whole process on such input: check it first.
@@ -293,6 +298,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
                                               radius_edge=radius_edge, seed=seed + 2, solid=solid, slide=slide,
                                               rounds=SLIVER_ROUNDS)
         info.update({k: v for k, v in counts.items() if v})
+        nodes, info["boundary_moves"] = slide_boundary_nodes(nodes, elems, solid, slide, min_dihedral, max_dihedral, radius_edge)
         if counts["flips"] or counts["inserted_points"]:
             bfaces, belem, bside = boundary_faces(elems)
     clock.append(time.perf_counter())
@@ -340,6 +346,15 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     clock.append(time.perf_counter())
     # Wall-clock seconds of the stages (the surface includes the solid's volume when not given).
     info["seconds"] = dict(zip(("surface", "tetgen", "smoothing", "checks"), np.diff(clock).tolist()))
+    caps = 0 if _graded is None else _graded[1]
+    if problems and field is not None and caps < QUALITY_CAPS and not cap_hit and rel <= volume_tolerance + est_err:
+        # A graded part: the field capped around the elements that miss the quality, meshed again.
+        where = poor_element_nodes(nodes, tets, min_dihedral, max_dihedral, radius_edge)
+        return tet_mesh(solid, size=size, order=order, min_dihedral=min_dihedral, radius_edge=radius_edge,
+                        max_dihedral=max_dihedral, steiner_cap=steiner_cap, volume_tolerance=volume_tolerance,
+                        allow_poor=allow_poor, seed=seed,
+                        _graded=(field.refined(where, CAP_FACTOR * field(where)), caps + 1, (estimate, est_err)))
+    info["quality_caps"] = caps
     if problems and not allow_poor:
         raise MeshQualityError("tet_mesh: " + "; ".join(problems) + " (allow_poor=True keeps such a mesh)")
     for msg in problems:
@@ -423,7 +438,7 @@ def _surface_for(solid, size, volume=None, allowed=None, field=None):
             else:
                 # Snapping and relaxing move vertices by up to a fraction of the size: the smallest one.
                 graded = field.capped(size).scaled(factor)
-                surface = surface_for_fea(solid, size=graded.smallest, size_field=graded, split_sides=True)
+                surface = graded_surface(solid, graded)  # capped locally where it crosses itself
         except ValueError as exc:
             if "self-intersecting" not in str(exc):
                 raise
