@@ -51,6 +51,27 @@ GROWTH = 0.3
 BAND_RATIO = 1.1
 
 
+
+def _bands_of(size, points, sizes):
+    """The sources under `size`, grouped in bands of sizes within `BAND_RATIO` of each other: the
+    smallest source size (`size` when there is none) and ``[(band's smallest size, KD-tree), ...]``."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    h = np.asarray(sizes, dtype=np.float64).reshape(-1)
+    if p.shape[0] != h.shape[0]:
+        raise ValueError(f"sizes: expected one size per point ({p.shape[0]}), got {h.shape[0]}")
+    keep = np.isfinite(h) & (h < size)
+    p, h = p[keep], h[keep]
+    smallest = float(h.min(initial=size))
+    bands = []
+    if h.size:
+        from scipy.spatial import cKDTree
+
+        level = np.floor(np.log(h / smallest) / np.log(BAND_RATIO) + 1e-9).astype(np.int64)
+        for lv in np.unique(level):
+            sel = level == lv
+            bands.append((float(h[sel].min()), cKDTree(p[sel])))
+    return smallest, bands
+
 class SizeField:
     """A graded target size: ``min(size, min_i(h_i + growth * |x - p_i|))`` over sources ``(p_i, h_i)``.
 
@@ -75,21 +96,7 @@ class SizeField:
     def __init__(self, size, points=(), sizes=(), growth=GROWTH):
         self.size = float(size)
         self.growth = float(growth)
-        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        h = np.asarray(sizes, dtype=np.float64).reshape(-1)
-        if p.shape[0] != h.shape[0]:
-            raise ValueError(f"sizes: expected one size per point ({p.shape[0]}), got {h.shape[0]}")
-        keep = np.isfinite(h) & (h < self.size)
-        p, h = p[keep], h[keep]
-        self.smallest = float(h.min(initial=self.size))
-        self._bands = []
-        if h.size:
-            from scipy.spatial import cKDTree
-
-            level = np.floor(np.log(h / self.smallest) / np.log(BAND_RATIO) + 1e-9).astype(np.int64)
-            for lv in np.unique(level):
-                sel = level == lv
-                self._bands.append((float(h[sel].min()), cKDTree(p[sel])))
+        self.smallest, self._bands = _bands_of(self.size, points, sizes)
 
     def scaled(self, factor) -> "SizeField":
         """The field times `factor` (the size asked and every source's size)."""
@@ -115,22 +122,11 @@ class SizeField:
         >>> f.smallest, f([[0.0, 0.0, 0.0], [5.0, 0.0, 0.0], [50.0, 0.0, 0.0]]).round(3).tolist()
         (2.0, [2.0, 3.5, 5.0])
         """
-        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        h = np.asarray(sizes, dtype=np.float64).reshape(-1)
-        if p.shape[0] != h.shape[0]:
-            raise ValueError(f"sizes: expected one size per point ({p.shape[0]}), got {h.shape[0]}")
-        keep = np.isfinite(h) & (h < self.size)
-        p, h = p[keep], h[keep]
+        smallest, bands = _bands_of(self.size, points, sizes)
         out = self.scaled(1.0)
-        if h.size:
-            from scipy.spatial import cKDTree
-
-            out.smallest = min(self.smallest, float(h.min()))
-            # New bands of their own: a query takes the least over all bands, whichever they are.
-            level = np.floor(np.log(h / float(h.min())) / np.log(BAND_RATIO) + 1e-9).astype(np.int64)
-            for lv in np.unique(level):
-                sel = level == lv
-                out._bands.append((float(h[sel].min()), cKDTree(p[sel])))
+        out.smallest = min(self.smallest, smallest)
+        # New bands of their own: a query takes the least over all bands, whichever they are.
+        out._bands.extend(bands)
         return out
 
     @property
