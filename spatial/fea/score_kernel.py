@@ -17,7 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["corner_measures", "element_scores", "moved_scores"]
+__all__ = ["best_trials", "corner_measures", "element_scores", "moved_scores"]
 
 _OPP = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]], dtype=np.int64)
 _EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]], dtype=np.int64)
@@ -150,6 +150,93 @@ def moved_scores(points, tets, moving, which, trials, min_dihedral, max_dihedral
                          np.ascontiguousarray(which, dtype=np.int64),
                          np.ascontiguousarray(trials, dtype=np.float64),
                          *_scales(min_dihedral, max_dihedral, radius_edge, min_gamma), _OPP, _EDGES, _EDGE_FACES)
+
+
+@njit(cache=True, nogil=True)
+def _best_trials(points, tets, moving, seg, counts, trials, min_d, hi_scale, re, min_g, opp, edges, edge_faces):
+    """For each vertex ``v`` (node ``moving[v]``, elements ``tets[seg[v]:seg[v] + counts[v]]``) the
+    first trial whose worst element beats the best of the earlier ones by more than 1e-9, and that
+    worst score.  A trial stops at its first element no better than the best so far (its worst
+    can only be lower), the element worst at trial 0 first: most trials end after one or two."""
+    nt, nv = trials.shape[0], trials.shape[1]
+    best = np.zeros(nv, dtype=np.int64)
+    best_score = np.empty(nv)
+    x = np.empty((4, 3))
+    for v in range(nv):
+        s0, c, node = seg[v], counts[v], moving[v]
+        top = np.inf
+        first = s0
+        for j in range(nt):
+            running = np.inf
+            for r in range(c):
+                # trial 0 in order (finding its worst element), the others from that element on
+                i = s0 + r if j == 0 else (first + r if first + r < s0 + c else first + r - c)
+                for k in range(4):
+                    nk = tets[i, k]
+                    for d in range(3):
+                        x[k, d] = trials[j, v, d] if nk == node else points[nk, d]
+                sc, vol = _score(x, min_d, hi_scale, re, min_g, opp, edges, edge_faces)
+                if not vol > 0:
+                    sc = -np.inf
+                if sc != sc:
+                    running = np.nan  # the worst is undefined: never better (as numpy's min propagates it)
+                    break
+                if sc < running:
+                    running = sc
+                    if j == 0:
+                        first = i
+                if j > 0 and not running > top + 1e-9:
+                    break
+            if j == 0:
+                top = running
+                if top != top:
+                    break  # an undefined current score: no trial counts as better
+            elif running > top + 1e-9:
+                top = running
+                best[v] = j
+        best_score[v] = top
+    return best, best_score
+
+
+def best_trials(points, tets, moving, seg, counts, trials, min_dihedral, max_dihedral, radius_edge=None,
+                min_gamma=0.25):
+    """The best trial position of each moving vertex and its worst element score.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    tets : (k, 4) int
+        The elements around the moving vertices, those of vertex ``v`` at rows
+        ``seg[v] .. seg[v] + counts[v] - 1``.
+    moving : (v,) int
+        The node moved, one per vertex.
+    seg, counts : (v,) int
+    trials : (t, v, 3) float
+        Trial positions; trial 0 is the current one.
+    min_dihedral, max_dihedral, radius_edge, min_gamma
+        As for `element_scores`.
+
+    Returns
+    -------
+    best : (v,) int
+        The first trial whose worst element (`moved_scores`, -inf where inverted) is more than
+        1e-9 above that of every earlier trial kept, 0 when none is.
+    score : (v,) float
+        That trial's worst element score.
+
+    Examples
+    --------
+    >>> p = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float)
+    >>> trials = np.array([[[0.2, 0.2, 0.2]], [[1.0, 1.0, 1.0]], [[-2.0, -2.0, -2.0]]])
+    >>> b, s = best_trials(p, np.array([[0, 1, 3, 2]]), np.array([0]), np.array([0]), np.array([1]), trials,
+    ...                    10.0, 165.0, min_gamma=0.0)
+    >>> int(b[0]), round(float(s[0]), 4)
+    (1, 70.5288)
+    """
+    return _best_trials(np.ascontiguousarray(points, dtype=np.float64), np.ascontiguousarray(tets, dtype=np.int64),
+                        np.ascontiguousarray(moving, dtype=np.int64), np.ascontiguousarray(seg, dtype=np.int64),
+                        np.ascontiguousarray(counts, dtype=np.int64), np.ascontiguousarray(trials, dtype=np.float64),
+                        *_scales(min_dihedral, max_dihedral, radius_edge, min_gamma), _OPP, _EDGES, _EDGE_FACES)
 
 
 @njit(cache=True, nogil=True)

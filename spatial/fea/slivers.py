@@ -20,7 +20,7 @@ import numpy as np
 
 from .facets import project_to_surface
 from .model import SIDE_NODES
-from .score_kernel import element_scores, moved_scores
+from .score_kernel import best_trials, element_scores
 
 __all__ = ["boundary_faces", "element_score", "flip23", "improve", "peel", "score"]
 
@@ -137,16 +137,10 @@ def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, see
             if sl.any():
                 tv = trials[1:, sl].reshape(-1, 3)
                 trials[1:, sl] = project_to_surface(solid, tv, steps=3).reshape(trials.shape[0] - 1, -1, 3)
-        # Every trial of every vertex scored in one compiled pass over the pairs (vertex, element).
-        worst_all = np.minimum.reduceat(moved_scores(pts, elem, verts[pair_v], pair_v, trials, min_dihedral,
-                                                     max_dihedral, radius_edge, SMOOTH_GAMMA), seg, axis=1)
-        best_score = worst_all[0]
-        best = np.zeros(verts.size, dtype=np.intp)
-        for j in range(1, trials.shape[0]):
-            worst = worst_all[j]
-            better = worst > best_score + 1e-9
-            best_score = np.where(better, worst, best_score)
-            best[better] = j
+        # The first trial of each vertex whose worst element beats the earlier ones, in one compiled
+        # pass that drops a trial at its first element no better than the best so far.
+        best, _ = best_trials(pts, elem, verts, seg, counts, trials, min_dihedral, max_dihedral, radius_edge,
+                              SMOOTH_GAMMA)
         pts[verts] = trials[best, np.arange(verts.size)]
         # Only the elements around moved vertices change their score.
         touched = np.unique(pair_tet[best[pair_v] != 0])
