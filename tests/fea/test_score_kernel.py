@@ -98,3 +98,32 @@ def test_best_trials_pick_what_the_full_table_picks(seed, radius_edge):
     np.testing.assert_array_equal(got, want)
     np.testing.assert_array_equal(score, top)
     assert (want > 0).any()  # some vertex found a better place, so the test can tell a wrong pick
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_smoothing_set_is_independent_and_its_means_are_the_numpy_ones(seed):
+    from scipy.spatial import Delaunay
+
+    from spatial.fea.score_kernel import smoothing_set
+
+    rng = np.random.default_rng(seed)
+    pts = rng.random((80, 3))
+    tets = Delaunay(pts).simplices.astype(np.int64)
+    flat = tets.reshape(-1)
+    order = np.argsort(flat, kind="stable")
+    starts = np.searchsorted(flat[order], np.arange(len(pts) + 1))
+    cand = rng.random(len(pts)) < 0.5
+    prio = rng.permutation(len(pts))
+    verts, counts, pair_tet, mean, edge = smoothing_set(pts, tets, starts, order // 4, cand, prio)
+    # every candidate that is the first of the candidates of all its elements, and only those
+    first = np.where(cand[tets], prio[tets], len(pts)).min(axis=1)
+    want = [v for v in np.flatnonzero(cand) if (first[(tets == v).any(axis=1)] == prio[v]).all()]
+    assert verts.tolist() == want and len(want) > 0
+    assert not np.isin(tets, verts).sum(axis=1).max() > 1  # no two in one element
+    for i, v in enumerate(verts):
+        around = np.flatnonzero((tets == v).any(axis=1))
+        assert sorted(pair_tet[counts[:i].sum():counts[:i + 1].sum()].tolist()) == around.tolist()
+        others = pts[tets[around]].reshape(-1, 3)
+        np.testing.assert_allclose(mean[i], (others.sum(axis=0) - len(around) * pts[v]) / (3 * len(around)), atol=1e-12)
+        np.testing.assert_allclose(edge[i], np.linalg.norm(others - pts[v], axis=1).max(), atol=1e-12)
