@@ -78,12 +78,15 @@ _JITTER_STEPS = np.array([0.05 + 0.25 * (k % 4) / 3.0 for k in range(24)])
 
 
 def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, seed=0, solid=None, slide=None,
-             jitter=1.0, radius_edge=None):
+             jitter=1.0, radius_edge=None, scores=None, with_scores=False):
     """Smooth movable vertices of bad elements until no element is bad or nothing moves.
 
     Each round takes an independent set of candidate vertices (no two in one
     element), tries the mean of the neighbours and random nearby positions,
     and keeps the one with the best worst-element score (never inverting one).
+    `scores` may give the elements' `element_score` at `points` (computed when
+    not given); with `with_scores` the scores at the result are returned too,
+    ``(points, scores)``.
     """
     rng = np.random.default_rng(seed)
     pts = points.copy()
@@ -95,7 +98,8 @@ def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, see
     starts = np.searchsorted(vert_sorted, np.arange(n + 1))
     target = min_dihedral + 1.0
     n_trials = _JITTER_STEPS.size
-    score = element_score(pts, tets, min_dihedral, max_dihedral, radius_edge)
+    score = (element_score(pts, tets, min_dihedral, max_dihedral, radius_edge) if scores is None
+             else np.array(scores, dtype=np.float64))
     for _ in range(rounds):
         bad = score < target
         if not bad.any():
@@ -135,7 +139,7 @@ def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, see
         touched = np.unique(pair_tet[best[pair_v] != 0])
         if touched.size:
             score[touched] = element_score(pts, tets[touched], min_dihedral, max_dihedral, radius_edge)
-    return pts
+    return (pts, score) if with_scores else pts
 
 
 def _ragged(starts, rows):
