@@ -45,6 +45,16 @@ def main() -> int:
 
     stl_records(np.eye(3), np.array([[0, 1, 2]]), 0, 1, np.empty(RECORD, dtype=np.uint8))
     edges_twice(np.array([[0, 1, 2]]), 3)
+    # `tet_mesh`'s sliver smoothing: element scores, the moving set of a round and its best trials
+    from spatial.fea.score_kernel import best_trials, corner_measures, element_scores, smoothing_set
+
+    p = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float)
+    t = np.array([[0, 1, 3, 2]])
+    element_scores(p, t, 10.0, 165.0, 3.0)
+    corner_measures(p, t)
+    one = np.array([0])
+    smoothing_set(p, t, np.array([0, 1, 2, 3, 4]), np.arange(4) // 4, np.ones(4, dtype=bool), np.arange(4))
+    best_trials(p, t, one, one, np.array([1]), p[None, :1].repeat(2, axis=0), 10.0, 165.0, 3.0)
     print(f"prime_kernels: numba kernels compiled or loaded in {time.perf_counter() - start:.1f} s")
     return 0
 

@@ -17,7 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["corner_measures", "element_scores", "moved_scores"]
+__all__ = ["best_trials", "corner_measures", "element_scores", "moved_scores", "smoothing_set"]
 
 _OPP = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]], dtype=np.int64)
 _EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]], dtype=np.int64)
@@ -150,6 +150,186 @@ def moved_scores(points, tets, moving, which, trials, min_dihedral, max_dihedral
                          np.ascontiguousarray(which, dtype=np.int64),
                          np.ascontiguousarray(trials, dtype=np.float64),
                          *_scales(min_dihedral, max_dihedral, radius_edge, min_gamma), _OPP, _EDGES, _EDGE_FACES)
+
+
+@njit(cache=True, nogil=True)
+def _best_trials(points, tets, moving, seg, counts, trials, min_d, hi_scale, re, min_g, opp, edges, edge_faces):
+    """For each vertex ``v`` (node ``moving[v]``, elements ``tets[seg[v]:seg[v] + counts[v]]``) the
+    first trial whose worst element beats the best of the earlier ones by more than 1e-9, and that
+    worst score.  A trial stops at its first element no better than the best so far (its worst
+    can only be lower), the element worst at trial 0 first: most trials end after one or two."""
+    nt, nv = trials.shape[0], trials.shape[1]
+    best = np.zeros(nv, dtype=np.int64)
+    best_score = np.empty(nv)
+    x = np.empty((4, 3))
+    for v in range(nv):
+        s0, c, node = seg[v], counts[v], moving[v]
+        top = np.inf
+        first = s0
+        for j in range(nt):
+            running = np.inf
+            for r in range(c):
+                # trial 0 in order (finding its worst element), the others from that element on
+                i = s0 + r if j == 0 else (first + r if first + r < s0 + c else first + r - c)
+                for k in range(4):
+                    nk = tets[i, k]
+                    for d in range(3):
+                        x[k, d] = trials[j, v, d] if nk == node else points[nk, d]
+                sc, vol = _score(x, min_d, hi_scale, re, min_g, opp, edges, edge_faces)
+                if not vol > 0:
+                    sc = -np.inf
+                if sc != sc:
+                    running = np.nan  # the worst is undefined: never better (as numpy's min propagates it)
+                    break
+                if sc < running:
+                    running = sc
+                    if j == 0:
+                        first = i
+                if j > 0 and not running > top + 1e-9:
+                    break
+            if j == 0:
+                top = running
+                if top != top:
+                    break  # an undefined current score: no trial counts as better
+            elif running > top + 1e-9:
+                top = running
+                best[v] = j
+        best_score[v] = top
+    return best, best_score
+
+
+def best_trials(points, tets, moving, seg, counts, trials, min_dihedral, max_dihedral, radius_edge=None,
+                min_gamma=0.25):
+    """The best trial position of each moving vertex and its worst element score.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    tets : (k, 4) int
+        The elements around the moving vertices, those of vertex ``v`` at rows
+        ``seg[v] .. seg[v] + counts[v] - 1``.
+    moving : (v,) int
+        The node moved, one per vertex.
+    seg, counts : (v,) int
+    trials : (t, v, 3) float
+        Trial positions; trial 0 is the current one.
+    min_dihedral, max_dihedral, radius_edge, min_gamma
+        As for `element_scores`.
+
+    Returns
+    -------
+    best : (v,) int
+        The first trial whose worst element (`moved_scores`, -inf where inverted) is more than
+        1e-9 above that of every earlier trial kept, 0 when none is.
+    score : (v,) float
+        That trial's worst element score.
+
+    Examples
+    --------
+    >>> p = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float)
+    >>> trials = np.array([[[0.2, 0.2, 0.2]], [[1.0, 1.0, 1.0]], [[-2.0, -2.0, -2.0]]])
+    >>> b, s = best_trials(p, np.array([[0, 1, 3, 2]]), np.array([0]), np.array([0]), np.array([1]), trials,
+    ...                    10.0, 165.0, min_gamma=0.0)
+    >>> int(b[0]), round(float(s[0]), 4)
+    (1, 70.5288)
+    """
+    return _best_trials(np.ascontiguousarray(points, dtype=np.float64), np.ascontiguousarray(tets, dtype=np.int64),
+                        np.ascontiguousarray(moving, dtype=np.int64), np.ascontiguousarray(seg, dtype=np.int64),
+                        np.ascontiguousarray(counts, dtype=np.int64), np.ascontiguousarray(trials, dtype=np.float64),
+                        *_scales(min_dihedral, max_dihedral, radius_edge, min_gamma), _OPP, _EDGES, _EDGE_FACES)
+
+
+@njit(cache=True, nogil=True)
+def _smoothing_set(points, tets, starts, tet_of, cand, prio):
+    n = cand.shape[0]
+    moves = np.zeros(n, dtype=np.bool_)
+    k = 0
+    p = 0
+    for v in range(n):
+        if not cand[v]:
+            continue
+        ok = True
+        for r in range(starts[v], starts[v + 1]):
+            t = tet_of[r]
+            for c in range(4):
+                u = tets[t, c]
+                if u != v and cand[u] and prio[u] < prio[v]:
+                    ok = False
+                    break
+            if not ok:
+                break
+        if ok:
+            moves[v] = True
+            k += 1
+            p += starts[v + 1] - starts[v]
+    verts = np.empty(k, dtype=np.int64)
+    counts = np.empty(k, dtype=np.int64)
+    pair_tet = np.empty(p, dtype=np.int64)
+    nbr_mean = np.zeros((k, 3))
+    edge = np.zeros(k)
+    i = 0
+    q = 0
+    for v in range(n):
+        if not moves[v]:
+            continue
+        verts[i] = v
+        counts[i] = starts[v + 1] - starts[v]
+        for r in range(starts[v], starts[v + 1]):
+            t = tet_of[r]
+            pair_tet[q] = t
+            q += 1
+            # the same sums, in the same order, as the numpy form (corners summed, minus v, added up)
+            for d in range(3):
+                s = points[tets[t, 0], d] + points[tets[t, 1], d]
+                s = s + points[tets[t, 2], d]
+                s = s + points[tets[t, 3], d]
+                nbr_mean[i, d] += s - points[v, d]
+            for c in range(4):
+                u = tets[t, c]
+                d0 = points[u, 0] - points[v, 0]
+                d1 = points[u, 1] - points[v, 1]
+                d2 = points[u, 2] - points[v, 2]
+                edge[i] = max(edge[i], math.sqrt(d0 * d0 + d1 * d1 + d2 * d2))
+        for d in range(3):
+            nbr_mean[i, d] /= 3.0 * counts[i]
+        i += 1
+    return verts, counts, pair_tet, nbr_mean, edge
+
+
+def smoothing_set(points, tets, starts, tet_of, cand, prio):
+    """The vertices one smoothing round moves and what their trials need, in one compiled pass.
+
+    A candidate vertex (`cand`) moves when its priority (`prio`) is the smallest of the candidates
+    of every element around it (no two moving vertices share an element).  The elements around
+    vertex ``v`` are ``tet_of[starts[v]:starts[v + 1]]``.
+
+    Returns
+    -------
+    verts : (k,) int
+        The moving vertices, ascending.
+    counts : (k,) int
+        Their number of elements.
+    pair_tet : (p,) int
+        Their elements, vertex after vertex.
+    nbr_mean : (k, 3) float
+        The mean of the other corners of their elements.
+    edge : (k,) float
+        Their longest edge.
+
+    Examples
+    --------
+    >>> p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]], dtype=float)
+    >>> t = np.array([[0, 1, 2, 3], [1, 2, 3, 4]])
+    >>> flat = t.reshape(-1); order = np.argsort(flat, kind="stable")
+    >>> starts = np.searchsorted(flat[order], np.arange(6))
+    >>> cand = np.array([True, False, False, False, True])
+    >>> v, c, pt, mean, edge = smoothing_set(p, t, starts, order // 4, cand, np.array([1, 0, 2, 3, 4]))
+    >>> v.tolist(), c.tolist(), pt.tolist(), mean.round(4).tolist(), edge.round(4).tolist()
+    ([0, 4], [1, 1], [0, 1], [[0.3333, 0.3333, 0.3333], [0.3333, 0.3333, 0.3333]], [1.0, 1.4142])
+    """
+    return _smoothing_set(np.ascontiguousarray(points, dtype=np.float64), np.ascontiguousarray(tets, dtype=np.int64),
+                          np.ascontiguousarray(starts, dtype=np.int64), np.ascontiguousarray(tet_of, dtype=np.int64),
+                          np.ascontiguousarray(cand, dtype=np.bool_), np.ascontiguousarray(prio, dtype=np.int64))
 
 
 @njit(cache=True, nogil=True)

@@ -20,7 +20,7 @@ import numpy as np
 
 from .facets import project_to_surface
 from .model import SIDE_NODES
-from .score_kernel import element_scores, moved_scores
+from .score_kernel import best_trials, element_scores, smoothing_set
 
 __all__ = ["boundary_faces", "element_score", "flip23", "improve", "peel", "score"]
 
@@ -73,13 +73,20 @@ def element_score(points, tets, min_dihedral, max_dihedral, radius_edge=None, mi
     return element_scores(points, tets, min_dihedral, max_dihedral, radius_edge, min_gamma)
 
 
+#: Random trial steps of the smoothing, as factors of the longest edge at the vertex (times `jitter`).
+_JITTER_STEPS = np.array([0.05 + 0.25 * (k % 4) / 3.0 for k in range(24)])
+
+
 def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, seed=0, solid=None, slide=None,
-             jitter=1.0, radius_edge=None):
+             jitter=1.0, radius_edge=None, scores=None, with_scores=False):
     """Smooth movable vertices of bad elements until no element is bad or nothing moves.
 
     Each round takes an independent set of candidate vertices (no two in one
     element), tries the mean of the neighbours and random nearby positions,
     and keeps the one with the best worst-element score (never inverting one).
+    `scores` may give the elements' `element_score` at `points` (computed when
+    not given); with `with_scores` the scores at the result are returned too,
+    ``(points, scores)``.
     """
     rng = np.random.default_rng(seed)
     pts = points.copy()
@@ -90,8 +97,9 @@ def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, see
     tet_of = order // 4
     starts = np.searchsorted(vert_sorted, np.arange(n + 1))
     target = min_dihedral + 1.0
-    n_trials = 24
-    score = element_score(pts, tets, min_dihedral, max_dihedral, radius_edge)
+    n_trials = _JITTER_STEPS.size
+    score = (element_score(pts, tets, min_dihedral, max_dihedral, radius_edge) if scores is None
+             else np.array(scores, dtype=np.float64))
     for _ in range(rounds):
         bad = score < target
         if not bad.any():
@@ -102,57 +110,36 @@ def improve(points, tets, movable, min_dihedral, max_dihedral, *, rounds=40, see
         if not cand.any():
             break
         # Independent set: a vertex moves only if it has the smallest priority among the
-        # candidates of all its elements (priorities drawn anew each round, so all get turns).
+        # candidates of all its elements (priorities drawn anew each round, so all get turns);
+        # its elements, neighbour mean and longest edge come from the same compiled pass.
         prio = rng.permutation(n)
-        # Only the elements around candidates decide (the rest of the mesh would cost a pass per round).
-        near = tets[np.unique(tet_of[_ragged(starts, np.nonzero(cand)[0])])]
-        tmin = np.where(cand[near], prio[near], n).min(axis=1)
-        blocked = np.zeros(n, dtype=bool)
-        blocked[near[tmin[:, None] != prio[near]]] = True
-        verts = np.nonzero(cand & ~blocked)[0]
+        verts, counts, pair_tet, nbr_mean, edge = smoothing_set(pts, tets, starts, tet_of, cand, prio)
         if verts.size == 0:
             break
-        # The pairs (vertex, element) around the moving vertices.
-        counts = starts[verts + 1] - starts[verts]
-        idx = _ragged(starts, verts)
-        pair_tet = tet_of[idx]
         pair_v = np.repeat(np.arange(verts.size), counts)
         seg = np.concatenate([[0], np.cumsum(counts)[:-1]])
         elem = tets[pair_tet]
-        x = pts[elem]
         # Trial positions: current, neighbour mean (two step lengths), random jitter.
-        nbr_mean = np.zeros((verts.size, 3))
-        np.add.at(nbr_mean, pair_v, x.sum(axis=1) - pts[verts[pair_v]])
-        nbr_mean /= (3.0 * counts)[:, None]
-        edge = np.zeros(verts.size)
-        np.maximum.at(edge, pair_v, np.linalg.norm(x - pts[verts[pair_v]][:, None, :], axis=2).max(axis=1))
         cur = pts[verts]
-        trials = [cur, nbr_mean, 0.5 * (cur + nbr_mean)]
-        for k in range(n_trials):
-            scale = (0.05 + 0.25 * (k % 4) / 3.0) * jitter * edge
-            trials.append(cur + rng.normal(size=cur.shape) * scale[:, None] / np.sqrt(3.0))
-        trials = np.stack(trials)  # (t, k, 3)
+        trials = np.empty((3 + n_trials, verts.size, 3))
+        trials[0], trials[1], trials[2] = cur, nbr_mean, 0.5 * (cur + nbr_mean)
+        scale = _JITTER_STEPS[:, None] * jitter * edge  # (t, k), as (0.05 + 0.25 (k % 4) / 3) jitter edge
+        trials[3:] = cur + rng.normal(size=(n_trials,) + cur.shape) * scale[:, :, None] / np.sqrt(3.0)
         if slide is not None:
             sl = slide[verts]
             if sl.any():
                 tv = trials[1:, sl].reshape(-1, 3)
                 trials[1:, sl] = project_to_surface(solid, tv, steps=3).reshape(trials.shape[0] - 1, -1, 3)
-        # Every trial of every vertex scored in one compiled pass over the pairs (vertex, element).
-        worst_all = np.minimum.reduceat(moved_scores(pts, elem, verts[pair_v], pair_v, trials, min_dihedral,
-                                                     max_dihedral, radius_edge, SMOOTH_GAMMA), seg, axis=1)
-        best_score = worst_all[0]
-        best = np.zeros(verts.size, dtype=np.intp)
-        for j in range(1, trials.shape[0]):
-            worst = worst_all[j]
-            better = worst > best_score + 1e-9
-            best_score = np.where(better, worst, best_score)
-            best[better] = j
+        # The first trial of each vertex whose worst element beats the earlier ones, in one compiled
+        # pass that drops a trial at its first element no better than the best so far.
+        best, _ = best_trials(pts, elem, verts, seg, counts, trials, min_dihedral, max_dihedral, radius_edge,
+                              SMOOTH_GAMMA)
         pts[verts] = trials[best, np.arange(verts.size)]
         # Only the elements around moved vertices change their score.
         touched = np.unique(pair_tet[best[pair_v] != 0])
         if touched.size:
             score[touched] = element_score(pts, tets[touched], min_dihedral, max_dihedral, radius_edge)
-    return pts
+    return (pts, score) if with_scores else pts
 
 
 def _ragged(starts, rows):

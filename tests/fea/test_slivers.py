@@ -164,3 +164,21 @@ def test_beam_with_every_node_on_its_boundary_meshes_clean():
     assert m.volume == pytest.approx(1e4, rel=1e-12)
     # The boundary is still the beam's: every boundary node on its surface.
     assert np.abs(beam(m.points[np.unique(m.boundary)])).max() < 1e-9
+
+
+def test_smoothing_returns_the_scores_of_its_result():
+    from spatial.fea.slivers import improve
+
+    g = np.linspace(0.0, 1.0, 5)
+    p = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
+    free = ((p > 0) & (p < 1)).all(axis=1)
+    p[free] += np.random.default_rng(1).normal(scale=0.06, size=p[free].shape)
+    t = Delaunay(p).simplices.astype(np.int64)
+    t[tet_volumes(p, t) < 0] = t[tet_volumes(p, t) < 0][:, [0, 2, 1, 3]]
+    before = element_score(p, t, 10.0, 165.0, 3.0)
+    q, sc = improve(p, t, free, 10.0, 165.0, radius_edge=3.0, with_scores=True)
+    np.testing.assert_array_equal(sc, element_score(q, t, 10.0, 165.0, 3.0))
+    assert (sc < 10.0).sum() < (before < 10.0).sum() and not np.array_equal(q, p)
+    # given the scores it starts from, the same result
+    q2 = improve(p, t, free, 10.0, 165.0, radius_edge=3.0, scores=before)
+    np.testing.assert_array_equal(q2, q)
