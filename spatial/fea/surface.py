@@ -3,7 +3,7 @@
 Raw marching-cubes surfaces hold triangles with angles far below one degree;
 a tetrahedral mesher that keeps the surface turns them into slivers.  This
 module remeshes the solid's feature mesh (`spatial.fea.surface_start`) to a
-uniform target edge length by clustering (pyacvd), projects the new vertices
+uniform target edge length by clustering (pyacvd, `spatial.fea.surface_clusters`), projects the new vertices
 back onto the solid's zero set with Newton steps along the gradient, and snaps
 vertices onto the sharp feature curves and onto the corners where faces of the
 CSG tree meet (the faces come from `spatial.fea.facets.FacetField`; the
@@ -20,13 +20,12 @@ extraction from volume data", SIGGRAPH 2001, doi:10.1145/383259.383265.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
 from implicit.solid import Solid, as_positive
 from .facets import (FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets,
                      value_and_gradient)
+from .surface_clusters import cluster_mesh
 from .surface_corners import exact_corners, snap_exact_corners
 from .surface_quality import (SurfaceQuality, _deviation, _edges, _is_closed_manifold, _normals, _polydata,  # noqa: F401
                               _triangle_angles, folded_triangles, mesh_faces, self_intersections, surface_quality)
@@ -295,60 +294,6 @@ def _flip_across_features(ff: FacetField, points, faces, fixed, evaluated=None, 
 # the surface pipeline
 # ---------------------------------------------------------------------------
 
-def _needs_cleaning(mesh) -> bool:
-    """Whether `mesh` has non-triangles, unused points, or two points at one place."""
-    if not mesh.is_all_triangles:
-        return True
-    pts = np.asarray(mesh.points, dtype=np.float64)
-    faces = mesh_faces(mesh)
-    if faces.size == 0 or np.count_nonzero(np.bincount(faces.reshape(-1), minlength=pts.shape[0])) != pts.shape[0]:
-        return True
-    order = np.lexsort(pts.T)
-    ps = pts[order]
-    return bool(np.any(np.all(ps[1:] == ps[:-1], axis=1)))
-
-
-def _clean_input(mesh):
-    """Merge duplicate points, drop zero-area and repeated triangles."""
-    if _needs_cleaning(mesh):
-        m = mesh.triangulate().clean(tolerance=0.0, absolute=True)
-        pts = np.asarray(m.points, dtype=np.float64)
-        faces = mesh_faces(m)
-    else:
-        # The boundary mesher's surfaces are clean already; VTK's cleaning would only renumber the
-        # points in the order the triangles first use them (which the clustering's result depends on).
-        pts = np.asarray(mesh.points, dtype=np.float64)
-        faces = mesh_faces(mesh)
-        flat = faces.reshape(-1)
-        first = np.empty(pts.shape[0], dtype=np.int64)
-        first[flat[::-1]] = np.arange(flat.size - 1, -1, -1)  # the last write is the first use
-        order = np.argsort(first, kind="stable")
-        rank = np.empty(pts.shape[0], dtype=np.int64)
-        rank[order] = np.arange(order.size)
-        pts, faces = pts[order], rank[faces]
-    area = 0.5 * np.linalg.norm(_normals(pts, faces), axis=1)
-    keep = area > 1e-14 * max(float(area.max(initial=0.0)), 1e-300)
-    keep &= (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
-    faces = faces[keep]
-    return pts, faces
-
-
-def _repair(points, faces):
-    """Make a triangle soup closed and manifold with MeshFix, keeping every component."""
-    import pymeshfix
-
-    mf = pymeshfix.MeshFix(points, faces.astype(np.int32))
-    mf.repair(remove_smallest_components=False)
-    return np.asarray(mf.points, dtype=np.float64), np.asarray(mf.faces, dtype=np.int64)
-
-
-def _outward(points, faces):
-    """Flip all triangles when the enclosed signed volume is negative."""
-    a, b, c = (points[faces[:, i]] for i in range(3))
-    vol = np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0
-    return faces[:, ::-1].copy() if vol < 0 else faces
-
-
 def _neighbour_mean_matrix(faces, n):
     """Sparse ``(n, n)`` matrix taking vertex positions to the mean of each vertex's neighbours.
 
@@ -416,34 +361,7 @@ def _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, chords):
 
     Returns the points, the triangles (outward) and the number of nodes snapped onto an edge or corner.
     """
-    import pyacvd
-
-    pts, faces = _clean_input(mesh)
-    src = _polydata(pts, faces)
-    area = float(src.area)
-    nclus = max(int(round(1.1547 * area / size**2)), 20)
-    with warnings.catch_warnings():
-        # pyacvd 0.4 uses a pyvista accessor that pyvista 0.49 deprecates.
-        warnings.filterwarnings("ignore", module="pyacvd")
-        if size_field is not None and not size_field.uniform:
-            from .graded import weighted_clusters  # a size varying over the surface
-
-            clus, nclus = weighted_clusters(src, size, size_field)
-        else:
-            clus = pyacvd.Clustering(src)
-            # Clustering needs many input points per cluster to make good cells.
-            nsub = 0
-            while src.n_points * 4**nsub < 15 * nclus and nsub < 4:
-                nsub += 1
-            if nsub:
-                clus.subdivide(nsub)
-        clus.cluster(nclus)
-        # Cluster centres are projected onto the solid below; without one, pyacvd moves them.
-        out = clus.create_mesh(moveclus=solid is None)
-    pts, faces = np.asarray(out.points, dtype=np.float64), mesh_faces(out)
-    if not _is_closed_manifold(faces):
-        pts, faces = _repair(pts, faces)
-    faces = _outward(pts, faces)
+    pts, faces = cluster_mesh(mesh, size, size_field, move_centres=solid is None)
     snapped = 0
     if solid is not None:
         pts = project_to_surface(solid, pts, max_move=size)
