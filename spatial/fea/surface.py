@@ -25,8 +25,9 @@ import numpy as np
 from implicit.solid import Solid, as_positive
 from .facets import (FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets,
                      value_and_gradient)
-from .surface_clusters import cluster_mesh
+from .surface_clusters import _outward, cluster_mesh
 from .surface_corners import exact_corners, snap_exact_corners
+from .surface_faces import face_clusters
 from .surface_quality import (SurfaceQuality, _deviation, _edges, _is_closed_manifold, _normals, _polydata,  # noqa: F401
                               _triangle_angles, folded_triangles, mesh_faces, self_intersections, surface_quality)
 
@@ -46,6 +47,9 @@ SNAP_MIN_ANGLE = 12.0
 FLIP_COSINE = 0.1  #: least cosine of a flipped triangle's normal and the sum of the old two unit normals
 #: Rounds of feature snapping and tangential relaxation.
 SNAP_ROUNDS = 4
+#: Relative difference of the enclosed volume from the feature mesh's over which the surface of free
+#: clusters is made again with clusters confined to the faces (`spatial.fea.surface_faces`).
+FACE_VOLUME_MISS = 0.005
 
 
 # ---------------------------------------------------------------------------
@@ -389,6 +393,30 @@ def _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, chords):
     return pts, faces, snapped
 
 
+def _confined_surface(mesh, solid, size, split_sides, result, crossing):
+    """The surface of clusters confined to the faces of `solid` (`spatial.fea.surface_faces`) in place
+    of `result` (free clusters of feature mesh `mesh`, `crossing` triangles piercing others) when
+    that misses the feature mesh's volume by more than `FACE_VOLUME_MISS` or pierces itself, and the
+    confined one pierces nothing, comes closer to that volume and has no angle under
+    `SNAP_MIN_ANGLE`: ``(points, faces, nodes on corners and curves, surface)``, or None.  A wall as
+    thick as `size` has free clusters spanning its whole section."""
+    want = abs(float(mesh.volume))
+    miss = abs(abs(float(result.volume)) - want) / max(want, 1e-300)
+    if not crossing and miss <= FACE_VOLUME_MISS:
+        return None
+    p, f, fixed = face_clusters(mesh, FacetField(solid, split_sides=split_sides), size)
+    if p is None:
+        return None
+    f = _outward(p, f)
+    p = _tangential_relax(solid, p, f, fixed)
+    surface = _polydata(p, f)
+    limit = max(miss, FACE_VOLUME_MISS) if crossing else miss
+    if abs(abs(float(surface.volume)) - want) / max(want, 1e-300) >= limit or _crossings(surface, solid) \
+            or _triangle_angles(p, f).min() < SNAP_MIN_ANGLE:
+        return None
+    return p, f, int(fixed.sum()), surface
+
+
 def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
                     check_intersections=True, size_field=None, split_sides=False, start=None):
     """A closed, outward, uniform triangle surface of target edge length `size`.
@@ -432,13 +460,16 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         feature mesh, `spatial.fea.graded_surface`).  Either way the
         feature mesh's corners become nodes.  A surface from the feature mesh
         that intersects itself is made again from the plain mesh
-        (``field_data["start"]`` says which one was used).
+        (``field_data["start"]`` says which one was used).  A surface from the feature mesh that
+        misses its volume by more than `FACE_VOLUME_MISS` or intersects itself is made first with
+        clusters confined to the faces, `spatial.fea.surface_faces` (``field_data["clusters"]``:
+        ``"faces"``, else ``"free"``).
 
     Returns
     -------
     pyvista.PolyData
         Triangles; ``field_data`` holds ``max_deviation`` (when a solid is
-        known) and ``snapped_vertices``.
+        known), ``snapped_vertices``, ``start``, ``clusters`` and ``size`` (the size it was made at).
 
     Raises
     ------
@@ -497,6 +528,12 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
     pts, faces, snapped = _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, kind == "features")
     result = _polydata(pts, faces)
     crossing = _crossings(result, solid) if check_intersections or kind == "features" else 0
+    clusters = "free"
+    if kind == "features" and (size_field is None or size_field.uniform):
+        confined = _confined_surface(mesh, solid, size, split_sides, result, crossing)
+        if confined is not None:
+            pts, faces, snapped, result = confined
+            crossing, clusters = 0, "faces"
     if crossing and kind == "features":
         # Clustered from the feature mesh, the surface pierces itself: the plain start at the same size.
         mesh, corner_mesh, kind = start_mesh(solid, h, "plain", corner_mesh)
@@ -505,6 +542,8 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         crossing = _crossings(result, solid) if check_intersections else 0
     result.field_data["snapped_vertices"] = np.array([snapped])
     result.field_data["start"] = np.array([kind])
+    result.field_data["clusters"] = np.array([clusters])
+    result.field_data["size"] = np.array([size])
     if solid is not None:
         dev = _deviation(solid, pts, faces)
         result.field_data["max_deviation"] = np.array([dev])
