@@ -3,7 +3,7 @@
 Raw marching-cubes surfaces hold triangles with angles far below one degree;
 a tetrahedral mesher that keeps the surface turns them into slivers.  This
 module remeshes the solid's feature mesh (`spatial.fea.surface_start`) to a
-uniform target edge length by clustering (pyacvd), projects the new vertices
+uniform target edge length by clustering (pyacvd, `spatial.fea.surface_clusters`), projects the new vertices
 back onto the solid's zero set with Newton steps along the gradient, and snaps
 vertices onto the sharp feature curves and onto the corners where faces of the
 CSG tree meet (the faces come from `spatial.fea.facets.FacetField`; the
@@ -20,14 +20,14 @@ extraction from volume data", SIGGRAPH 2001, doi:10.1145/383259.383265.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
 from implicit.solid import Solid, as_positive
 from .facets import (FacetField, facet_field, independent_facets, project_to_surface, solve_on_facets,
                      value_and_gradient)
+from .surface_clusters import _outward, cluster_mesh
 from .surface_corners import exact_corners, snap_exact_corners
+from .surface_faces import face_clusters
 from .surface_quality import (SurfaceQuality, _deviation, _edges, _is_closed_manifold, _normals, _polydata,  # noqa: F401
                               _triangle_angles, folded_triangles, mesh_faces, self_intersections, surface_quality)
 
@@ -47,6 +47,9 @@ SNAP_MIN_ANGLE = 12.0
 FLIP_COSINE = 0.1  #: least cosine of a flipped triangle's normal and the sum of the old two unit normals
 #: Rounds of feature snapping and tangential relaxation.
 SNAP_ROUNDS = 4
+#: Relative difference of the enclosed volume from the feature mesh's over which the surface of free
+#: clusters is made again with clusters confined to the faces (`spatial.fea.surface_faces`).
+FACE_VOLUME_MISS = 0.005
 
 
 # ---------------------------------------------------------------------------
@@ -295,60 +298,6 @@ def _flip_across_features(ff: FacetField, points, faces, fixed, evaluated=None, 
 # the surface pipeline
 # ---------------------------------------------------------------------------
 
-def _needs_cleaning(mesh) -> bool:
-    """Whether `mesh` has non-triangles, unused points, or two points at one place."""
-    if not mesh.is_all_triangles:
-        return True
-    pts = np.asarray(mesh.points, dtype=np.float64)
-    faces = mesh_faces(mesh)
-    if faces.size == 0 or np.count_nonzero(np.bincount(faces.reshape(-1), minlength=pts.shape[0])) != pts.shape[0]:
-        return True
-    order = np.lexsort(pts.T)
-    ps = pts[order]
-    return bool(np.any(np.all(ps[1:] == ps[:-1], axis=1)))
-
-
-def _clean_input(mesh):
-    """Merge duplicate points, drop zero-area and repeated triangles."""
-    if _needs_cleaning(mesh):
-        m = mesh.triangulate().clean(tolerance=0.0, absolute=True)
-        pts = np.asarray(m.points, dtype=np.float64)
-        faces = mesh_faces(m)
-    else:
-        # The boundary mesher's surfaces are clean already; VTK's cleaning would only renumber the
-        # points in the order the triangles first use them (which the clustering's result depends on).
-        pts = np.asarray(mesh.points, dtype=np.float64)
-        faces = mesh_faces(mesh)
-        flat = faces.reshape(-1)
-        first = np.empty(pts.shape[0], dtype=np.int64)
-        first[flat[::-1]] = np.arange(flat.size - 1, -1, -1)  # the last write is the first use
-        order = np.argsort(first, kind="stable")
-        rank = np.empty(pts.shape[0], dtype=np.int64)
-        rank[order] = np.arange(order.size)
-        pts, faces = pts[order], rank[faces]
-    area = 0.5 * np.linalg.norm(_normals(pts, faces), axis=1)
-    keep = area > 1e-14 * max(float(area.max(initial=0.0)), 1e-300)
-    keep &= (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
-    faces = faces[keep]
-    return pts, faces
-
-
-def _repair(points, faces):
-    """Make a triangle soup closed and manifold with MeshFix, keeping every component."""
-    import pymeshfix
-
-    mf = pymeshfix.MeshFix(points, faces.astype(np.int32))
-    mf.repair(remove_smallest_components=False)
-    return np.asarray(mf.points, dtype=np.float64), np.asarray(mf.faces, dtype=np.int64)
-
-
-def _outward(points, faces):
-    """Flip all triangles when the enclosed signed volume is negative."""
-    a, b, c = (points[faces[:, i]] for i in range(3))
-    vol = np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0
-    return faces[:, ::-1].copy() if vol < 0 else faces
-
-
 def _neighbour_mean_matrix(faces, n):
     """Sparse ``(n, n)`` matrix taking vertex positions to the mean of each vertex's neighbours.
 
@@ -416,34 +365,7 @@ def _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, chords):
 
     Returns the points, the triangles (outward) and the number of nodes snapped onto an edge or corner.
     """
-    import pyacvd
-
-    pts, faces = _clean_input(mesh)
-    src = _polydata(pts, faces)
-    area = float(src.area)
-    nclus = max(int(round(1.1547 * area / size**2)), 20)
-    with warnings.catch_warnings():
-        # pyacvd 0.4 uses a pyvista accessor that pyvista 0.49 deprecates.
-        warnings.filterwarnings("ignore", module="pyacvd")
-        if size_field is not None and not size_field.uniform:
-            from .graded import weighted_clusters  # a size varying over the surface
-
-            clus, nclus = weighted_clusters(src, size, size_field)
-        else:
-            clus = pyacvd.Clustering(src)
-            # Clustering needs many input points per cluster to make good cells.
-            nsub = 0
-            while src.n_points * 4**nsub < 15 * nclus and nsub < 4:
-                nsub += 1
-            if nsub:
-                clus.subdivide(nsub)
-        clus.cluster(nclus)
-        # Cluster centres are projected onto the solid below; without one, pyacvd moves them.
-        out = clus.create_mesh(moveclus=solid is None)
-    pts, faces = np.asarray(out.points, dtype=np.float64), mesh_faces(out)
-    if not _is_closed_manifold(faces):
-        pts, faces = _repair(pts, faces)
-    faces = _outward(pts, faces)
+    pts, faces = cluster_mesh(mesh, size, size_field, move_centres=solid is None)
     snapped = 0
     if solid is not None:
         pts = project_to_surface(solid, pts, max_move=size)
@@ -469,6 +391,30 @@ def _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, chords):
                                            lambda p, f, held: _tangential_relax(solid, p, f, held), fixed)
         snapped += count
     return pts, faces, snapped
+
+
+def _confined_surface(mesh, solid, size, split_sides, result, crossing):
+    """The surface of clusters confined to the faces of `solid` (`spatial.fea.surface_faces`) in place
+    of `result` (free clusters of feature mesh `mesh`, `crossing` triangles piercing others) when
+    that misses the feature mesh's volume by more than `FACE_VOLUME_MISS` or pierces itself, and the
+    confined one pierces nothing, comes closer to that volume and has no angle under
+    `SNAP_MIN_ANGLE`: ``(points, faces, nodes on corners and curves, surface)``, or None.  A wall as
+    thick as `size` has free clusters spanning its whole section."""
+    want = abs(float(mesh.volume))
+    miss = abs(abs(float(result.volume)) - want) / max(want, 1e-300)
+    if not crossing and miss <= FACE_VOLUME_MISS:
+        return None
+    p, f, fixed = face_clusters(mesh, FacetField(solid, split_sides=split_sides), size)
+    if p is None:
+        return None
+    f = _outward(p, f)
+    p = _tangential_relax(solid, p, f, fixed)
+    surface = _polydata(p, f)
+    limit = max(miss, FACE_VOLUME_MISS) if crossing else miss
+    if abs(abs(float(surface.volume)) - want) / max(want, 1e-300) >= limit or _crossings(surface, solid) \
+            or _triangle_angles(p, f).min() < SNAP_MIN_ANGLE:
+        return None
+    return p, f, int(fixed.sum()), surface
 
 
 def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
@@ -514,13 +460,16 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         feature mesh, `spatial.fea.graded_surface`).  Either way the
         feature mesh's corners become nodes.  A surface from the feature mesh
         that intersects itself is made again from the plain mesh
-        (``field_data["start"]`` says which one was used).
+        (``field_data["start"]`` says which one was used).  A surface from the feature mesh that
+        misses its volume by more than `FACE_VOLUME_MISS` or intersects itself is made first with
+        clusters confined to the faces, `spatial.fea.surface_faces` (``field_data["clusters"]``:
+        ``"faces"``, else ``"free"``).
 
     Returns
     -------
     pyvista.PolyData
         Triangles; ``field_data`` holds ``max_deviation`` (when a solid is
-        known) and ``snapped_vertices``.
+        known), ``snapped_vertices``, ``start``, ``clusters`` and ``size`` (the size it was made at).
 
     Raises
     ------
@@ -579,6 +528,12 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
     pts, faces, snapped = _remesh(mesh, corner_mesh, solid, size, size_field, split_sides, kind == "features")
     result = _polydata(pts, faces)
     crossing = _crossings(result, solid) if check_intersections or kind == "features" else 0
+    clusters = "free"
+    if kind == "features" and (size_field is None or size_field.uniform):
+        confined = _confined_surface(mesh, solid, size, split_sides, result, crossing)
+        if confined is not None:
+            pts, faces, snapped, result = confined
+            crossing, clusters = 0, "faces"
     if crossing and kind == "features":
         # Clustered from the feature mesh, the surface pierces itself: the plain start at the same size.
         mesh, corner_mesh, kind = start_mesh(solid, h, "plain", corner_mesh)
@@ -587,6 +542,8 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         crossing = _crossings(result, solid) if check_intersections else 0
     result.field_data["snapped_vertices"] = np.array([snapped])
     result.field_data["start"] = np.array([kind])
+    result.field_data["clusters"] = np.array([clusters])
+    result.field_data["size"] = np.array([size])
     if solid is not None:
         dev = _deviation(solid, pts, faces)
         result.field_data["max_deviation"] = np.array([dev])

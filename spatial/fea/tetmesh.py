@@ -232,6 +232,8 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         surface, info["surface_size"] = _surface_for(solid, size if order == 1 else curvature_size(solid, size),
                                                      estimate, allowed, field)
         info.update(surface_info(surface))
+        if "clusters" in surface.field_data:  # confined to the faces or free (surface_for_fea)
+            info["surface_clusters"] = str(np.asarray(surface.field_data["clusters"]).reshape(-1)[0])
         sfaces = mesh_faces(surface)
     else:
         # TetGen aborts the whole process on such input: check it first.

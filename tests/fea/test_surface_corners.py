@@ -69,17 +69,17 @@ def test_every_bracket_edge_is_a_chain_of_nodes():
 
 
 def test_beam_as_thick_as_the_size_keeps_its_volume():
-    """At a size equal to its thickness the clustering cannot keep the beam's edges (the surface from the
-    feature mesh encloses 82 percent of it, the plain one intersects itself); the surface tried at a finer
-    size, as `tet_mesh` does given the volume, keeps the volume exactly (its nodes on the faces, edges and
-    corners)."""
+    """At a size equal to its thickness the free clusters span the beam's section (the surface from the
+    feature mesh would enclose 82 percent of it); clusters kept to the faces keep the volume exactly at
+    that size (nodes on the faces, edges and corners), and `tet_mesh` needs no finer size."""
     from spatial.fea.tetmesh import _surface_for
 
     beam = box((100.0, 10.0, 10.0), center=(50.0, 0.0, 0.0))
     coarse = surface_for_fea(beam, size=10.0)
-    assert coarse.field_data["start"][0] == "features" and abs(coarse.volume) < 0.9e4
+    assert coarse.field_data["start"][0] == "features" and coarse.field_data["clusters"][0] == "faces"
+    assert abs(abs(coarse.volume) - 1e4) / 1e4 < 1e-9
     s, used = _surface_for(beam, 10.0, 1e4, 0.005)
-    assert used < 10.0
+    assert used == 10.0
     assert abs(s.volume - 10000.0) / 10000.0 < 1e-9
 
 

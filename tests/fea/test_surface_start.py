@@ -83,8 +83,9 @@ def test_beam_meshes_from_the_feature_mesh_with_its_corners_and_volume(size):
     assert dist.max() < 1e-9
     assert m.volume == pytest.approx(1e4, rel=1e-9)
     assert m.quality.min_dihedral >= 10.0
-    # at 10 the surface misses a good part of the beam and is made again finer
-    assert (m.info["surface_size"] < size) == (size == 10.0)
+    # at 10 too the surface is made at the asked size (clusters kept to the faces there)
+    assert m.info["surface_size"] == size
+    assert m.info["surface_clusters"] == ("faces" if size == 10.0 else "free")
 
 
 def test_an_unusable_feature_mesh_falls_back_to_the_plain_start():
