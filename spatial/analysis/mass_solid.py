@@ -162,108 +162,10 @@ def _kernels():
     if _KERNELS:
         return _KERNELS[0]
     try:
-        import numba
+        from .mass_kernels import level, shell
     except ImportError:  # pragma: no cover - numba is a dependency
         _KERNELS.append(None)
         return None
-
-    # The sums run in blocks of BLOCK terms, each block's sum added to the total with Neumaier's
-    # compensation: the rounding no longer grows with the number of triangles (a plain running sum over
-    # the 0.9 M triangles of N=256 is off by 5e-12 of the volume), so the sum over a mesh cut in parts
-    # (`spatial.distributed`) is the sum over the whole to rounding.
-    BLOCK = 512
-
-    @numba.njit(cache=True, fastmath=False, inline="always")
-    def _flush(out, comp, blk):
-        for q in range(blk.shape[0]):
-            s, x = out[q], blk[q]
-            t = s + x
-            if abs(s) >= abs(x):
-                comp[q] += (s - t) + x
-            else:
-                comp[q] += (x - t) + s
-            out[q] = t
-            blk[q] = 0.0
-
-    @numba.njit(cache=True, fastmath=False)
-    def level(pts, tri, c0):
-        m = tri.shape[0]
-        out = np.zeros(14)
-        comp = np.zeros(14)
-        blk = np.zeros(14)
-        mids = np.empty((3 * m, 3))
-        weights = np.empty(3 * m)
-        for k in range(m):
-            i, j, l = tri[k, 0], tri[k, 1], tri[k, 2]
-            ax, ay, az = pts[i, 0] - c0[0], pts[i, 1] - c0[1], pts[i, 2] - c0[2]
-            bx, by, bz = pts[j, 0] - c0[0], pts[j, 1] - c0[1], pts[j, 2] - c0[2]
-            cx, cy, cz = pts[l, 0] - c0[0], pts[l, 1] - c0[1], pts[l, 2] - c0[2]
-            ux, uy, uz = bx - ax, by - ay, bz - az
-            vx, vy, vz = cx - ax, cy - ay, cz - az
-            nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
-            area = 0.5 * np.sqrt(nx * nx + ny * ny + nz * nz)
-            det = ax * nx + ay * ny + az * nz
-            sx, sy, sz = ax + bx + cx, ay + by + cy, az + bz + cz
-            blk[0] += det / 6.0
-            blk[1] += det * sx / 24.0
-            blk[2] += det * sy / 24.0
-            blk[3] += det * sz / 24.0
-            d = det / 120.0
-            blk[4] += d * (sx * sx + ax * ax + bx * bx + cx * cx)
-            blk[5] += d * (sx * sy + ax * ay + bx * by + cx * cy)
-            blk[6] += d * (sx * sz + ax * az + bx * bz + cx * cz)
-            blk[8] += d * (sy * sy + ay * ay + by * by + cy * cy)
-            blk[9] += d * (sy * sz + ay * az + by * bz + cy * cz)
-            blk[12] += d * (sz * sz + az * az + bz * bz + cz * cz)
-            blk[13] += area
-            w = area / 3.0
-            for q in range(3):
-                weights[3 * k + q] = w
-            mids[3 * k, 0] = 0.5 * (ax + bx) + c0[0]
-            mids[3 * k, 1] = 0.5 * (ay + by) + c0[1]
-            mids[3 * k, 2] = 0.5 * (az + bz) + c0[2]
-            mids[3 * k + 1, 0] = 0.5 * (bx + cx) + c0[0]
-            mids[3 * k + 1, 1] = 0.5 * (by + cy) + c0[1]
-            mids[3 * k + 1, 2] = 0.5 * (bz + cz) + c0[2]
-            mids[3 * k + 2, 0] = 0.5 * (cx + ax) + c0[0]
-            mids[3 * k + 2, 1] = 0.5 * (cy + ay) + c0[1]
-            mids[3 * k + 2, 2] = 0.5 * (cz + az) + c0[2]
-            if k % BLOCK == BLOCK - 1:
-                _flush(out, comp, blk)
-        _flush(out, comp, blk)
-        out += comp
-        out[7] = out[5]
-        out[10] = out[6]
-        out[11] = out[9]
-        return out, mids, weights
-
-    @numba.njit(cache=True, fastmath=False)
-    def shell(mids, w, c0):
-        out = np.zeros(13)
-        comp = np.zeros(13)
-        blk = np.zeros(13)
-        for k in range(mids.shape[0]):
-            x, y, z = mids[k, 0] - c0[0], mids[k, 1] - c0[1], mids[k, 2] - c0[2]
-            q = w[k]
-            blk[0] += q
-            blk[1] += q * x
-            blk[2] += q * y
-            blk[3] += q * z
-            blk[4] += q * x * x
-            blk[5] += q * x * y
-            blk[6] += q * x * z
-            blk[8] += q * y * y
-            blk[9] += q * y * z
-            blk[12] += q * z * z
-            if k % BLOCK == BLOCK - 1:
-                _flush(out, comp, blk)
-        _flush(out, comp, blk)
-        out += comp
-        out[7] = out[5]
-        out[10] = out[6]
-        out[11] = out[9]
-        return out
-
     _KERNELS.append((level, shell))
     return _KERNELS[0]
 

@@ -49,6 +49,8 @@ GROWTH = 0.3
 #: Sources are grouped in bands of sizes within this ratio; each band counts at its smallest size
 #: (the field errs finer, by at most this ratio, never coarser).
 BAND_RATIO = 1.1
+#: Groups of points by how far a band's sources may lie and still lower their size (halving reaches).
+_REACH_GROUPS = 4
 
 
 
@@ -137,11 +139,25 @@ class SizeField:
     def __call__(self, x) -> np.ndarray:
         x = np.asarray(x, dtype=np.float64).reshape(-1, 3)
         out = np.full(x.shape[0], self.size)
-        for h, tree in self._bands:
-            # Sources farther than this cannot bring the size under `size`.
-            reach = (self.size - h) / self.growth
-            d, _ = tree.query(x, k=1, distance_upper_bound=reach)
-            np.minimum(out, h + self.growth * d, out=out)
+        # Finest bands first: a source of band h can lower the size at a point only within
+        # (size there so far - h) / growth of it, so each band asks the points it can still lower, in
+        # groups of such reach (halving), and the trees search that far only.  The least over all
+        # bands is the same as every band over every point (the reach is widened by a relative 1e-9
+        # against rounding).
+        for h, tree in sorted(self._bands, key=lambda band: band[0]):
+            reach = (out - h) / self.growth
+            live = np.flatnonzero(reach > 0.0)
+            if live.size == 0:
+                continue
+            top = float(reach[live].max())
+            group = np.minimum(np.floor(np.log2(top / np.maximum(reach[live], 1e-300 * top))), _REACH_GROUPS - 1)
+            for g in range(_REACH_GROUPS):
+                idx = live[group == g]
+                if idx.size == 0:
+                    continue
+                bound = float(reach[idx].max()) * (1.0 + 1e-9)
+                d, _ = tree.query(x[idx], k=1, distance_upper_bound=bound)
+                out[idx] = np.minimum(out[idx], h + self.growth * d)
         return out
 
 

@@ -295,7 +295,8 @@ def remove_slivers(points, tets, movable, min_dihedral, max_dihedral, *, radius_
     (`remove_edges`: 3-2, 4-4 ... and 2-2 on planar boundary), and smoothing of the movable
     vertices (`improve`, boundary vertices where `slide` sliding on `solid`).  Last, for bad
     elements none of whose nodes may move, a point in the middle of their longest interior
-    edge (`split_edges`), smoothed, kept when it raises the worst score.  Returns the points,
+    edge (`split_edges`), smoothed, kept when fewer elements score under `min_dihedral` and the
+    worst score is no lower.  Returns the points,
     the elements and the counts ``{"flips", "inserted_points"}``.
 
     Examples
@@ -330,7 +331,7 @@ def remove_slivers(points, tets, movable, min_dihedral, max_dihedral, *, radius_
         points = improve(points, tets, movable, min_dihedral, max_dihedral, seed=seed + extra, solid=solid,
                          slide=slide if slide.any() else None, rounds=80, jitter=1.0 + extra, radius_edge=radius_edge)
     # Last resort, where smoothing cannot help (bad elements none of whose nodes may move): a point in the
-    # middle of their longest interior edge, smoothed, kept only when the worst element is then better.
+    # middle of their longest interior edge, smoothed, kept only when fewer elements are then bad.
     sc = element_score(points, tets, min_dihedral, max_dihedral, radius_edge)
     stuck = (sc < min_dihedral) & ~movable[tets].any(axis=1)
     if np.any(stuck):
@@ -342,7 +343,10 @@ def remove_slivers(points, tets, movable, min_dihedral, max_dihedral, *, radius_
             t2, removed = remove_edges(q, t2, min_dihedral, max_dihedral, radius_edge)
             q = improve(q, t2, mov, min_dihedral, max_dihedral, seed=seed + rounds, solid=solid,
                         slide=sl if sl.any() else None, rounds=80, jitter=1.0, radius_edge=radius_edge)
-            if element_score(q, t2, min_dihedral, max_dihedral, radius_edge).min() > sc.min():
+            # Judged on the bad elements, not only on the worst: one elsewhere that no split can
+            # reach (a flat element of good angles, scored by its gamma) would hide every repair.
+            sc2 = element_score(q, t2, min_dihedral, max_dihedral, radius_edge)
+            if sc2.min() >= sc.min() and np.count_nonzero(sc2 < min_dihedral) < np.count_nonzero(sc < min_dihedral):
                 counts["inserted_points"] += added
                 counts["flips"] += removed
                 points, tets = q, t2

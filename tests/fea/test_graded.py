@@ -34,6 +34,23 @@ def test_size_field_errs_finer_by_at_most_the_band_ratio(seed):
     assert np.all(np.abs(got - fy) <= 0.3 * np.linalg.norm(x - y, axis=1) + (BAND_RATIO - 1) * 3.0)
 
 
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**31 - 1))
+def test_size_field_searches_each_band_only_as_far_as_it_can_lower_the_size(seed):
+    """The least over the bands, finest first with each point's reach, is bit for bit every band's
+    nearest source within (size - h) / growth over every point."""
+    rng = np.random.default_rng(seed)
+    p, h = rng.uniform(-5, 5, (60, 3)), rng.uniform(0.2, 3.0, 60)
+    x = np.concatenate([rng.uniform(-8, 8, (300, 3)), [[30.0, 0.0, 0.0]]])
+    f = SizeField(3.0, p, h, growth=0.3).refined(rng.uniform(-5, 5, (5, 3)), rng.uniform(0.1, 2.0, 5))
+    every = np.full(len(x), f.size)
+    for hb, tree in f._bands:
+        d, _ = tree.query(x, k=1, distance_upper_bound=(f.size - hb) / f.growth)
+        every = np.minimum(every, hb + f.growth * d)
+    np.testing.assert_array_equal(f(x), every)
+    assert every.min() < 1.5 and every[-1] == 3.0
+
+
 def test_curvatures_of_cylinder_sphere_and_plane_faces():
     part = box(10.0) - cylinder(2.0, 20.0) | sphere(1.5, center=(0.0, 0.0, 6.5))
     k = curvatures(part, [[2.0, 0, 0], [0, -2.0, 1.0], [5.0, 1.0, 0], [0, 0, 8.0]], 1e-3)
