@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .primitives import capped_cone_parts
+from .primitives import capped_cone_parts, capsule_kernels
 
 __all__ = ["leaf_facets_with_gradients"]
 
@@ -104,6 +104,10 @@ def leaf_facets_with_gradients(node, p, step, facets=None):
         return [""], (s - node._r)[None, :], _to_world(node, gq)[None]
     if kind == "cone":
         v, g = _cone(node, p)
+        return [""], v[None, :], g[None]
+    if kind == "capsule" and capsule_kernels() is not None:
+        v, g = np.empty(n), np.empty((n, 3))
+        capsule_kernels()[1](np.ascontiguousarray(p, dtype=np.float64), node._a, node._ab, node._ab2, node._r, v, g)
         return [""], v[None, :], g[None]
     if kind == "capsule":
         w = p - node._a

@@ -125,7 +125,7 @@ def pruned_decide(ff, points, per_bin=POINTS_PER_BIN):
     centre = 0.5 * (bins.lo + bins.hi)
     radius = 0.5 * np.sqrt(np.einsum("ij,ij->i", bins.hi - bins.lo, bins.hi - bins.lo))
     keeps: list = []
-    _record(ff.solid, centre, 1.0, radius, keeps)
+    _record(ff.solid, centre, 1.0, radius, keeps, _tape_values(ff.solid, centre))
     walk = _Walk(ff, keeps, bins.lengths)
     value, dec = walk.node(ff.solid, bins.sorted, np.arange(bins.lengths.shape[0]))
     out_v = np.empty(n)
@@ -135,14 +135,46 @@ def pruned_decide(ff, points, per_bin=POINTS_PER_BIN):
     return out_v, out_d
 
 
-def _record(node, c, scale, radius, keeps):
+def _tape_values(solid, centres):
+    """The operands' values of every Boolean of `solid` at `centres`, by id of the Boolean ``(children, m)``,
+    from one run of the compiled tape (`implicit.evaluate`), or None without it.
+
+    They bound the operands as numpy's do (the tape rounds otherwise by about 1e-15 relative, well within
+    `SLACK`) at a fraction of the cost: numpy evaluates every leaf of the tree at every centre, leaf by
+    leaf.  A Boolean met twice in the tree (a shared subtree) is left out: its operands are evaluated.
+    """
+    try:
+        from .evaluate.compile import compile_solid
+        from .evaluate.kernels import _call, _kernel
+    except ImportError:
+        return None
+    compiled = compile_solid(solid, warm=False)
+    if compiled.backend != "numba" or not compiled.tape.groups:
+        return None
+    rec = _call(_kernel("serial"), compiled.tape, np.ascontiguousarray(centres), record=True)
+    groups = compiled.tape.groups
+    count: dict = {}
+    for node, *_ in groups:
+        count[id(node)] = count.get(id(node), 0) + 1
+    out: dict = {}
+    for node, _frame, slots, _entries in groups:
+        if count[id(node)] == 1 and len(slots) == len(node.children) and node.kind in _BOOLEANS:
+            out[id(node)] = rec[slots]
+    return out
+
+
+def _record(node, c, scale, radius, keeps, known=None, need=True):
     """The field at the bins' centres `c`; appends, for every sharp Boolean in depth-first order,
-    which of its operands may decide it in each bin, ``(children, m)`` bool."""
+    which of its operands may decide it in each bin, ``(children, m)`` bool.  `known`: the operands'
+    values of Booleans by id (`_tape_values`), whose leaves are then not evaluated; returns None for
+    a subtree whose value is not `need`-ed."""
     kind = node.kind
     if kind in _BOOLEANS:
         slot = len(keeps)
         keeps.append(None)
-        vals = np.stack([_record(ch, c, scale, radius, keeps) for ch in node.children])
+        given = known.get(id(node)) if known else None
+        kids = [_record(ch, c, scale, radius, keeps, known, given is None) for ch in node.children]
+        vals = np.array(given, dtype=np.float64) if given is not None else np.stack(kids)
         lips = np.array([ch.lipschitz for ch in node.children])[:, None]
         with np.errstate(invalid="ignore"):
             spread = lips * (radius * scale * (1.0 + SLACK))[None, :] + SLACK * (1.0 + np.abs(vals))
@@ -159,18 +191,31 @@ def _record(node, c, scale, radius, keeps):
             keeps[slot] = ~(upper < lower.max(axis=0))
             vals[1:] *= -1.0
             return vals.max(axis=0)
+    if kind in _PASS_THROUGH and not _has_boolean(node) and not need:
+        return None
     if kind == "family":
-        return _record(node.children[0], c, scale, radius, keeps)
+        return _record(node.children[0], c, scale, radius, keeps, known, need)
     if kind == "complement":
-        return -_record(node.children[0], c, scale, radius, keeps)
+        v = _record(node.children[0], c, scale, radius, keeps, known, need)
+        return None if v is None else -v
     if kind == "offset":
-        return _record(node.children[0], c, scale, radius, keeps) - node.params["distance"]
+        v = _record(node.children[0], c, scale, radius, keeps, known, need)
+        return None if v is None else v - node.params["distance"]
     if kind == "affine":
         q = np.ascontiguousarray((c - node._offset) @ node._inv.T)
         # a child evaluated at inv (p - offset) varies by at most |inv| times its Lipschitz constant
-        v = _record(node.children[0], q, scale * float(np.linalg.norm(node._inv, 2)), radius, keeps)
-        return v * node._factor
+        v = _record(node.children[0], q, scale * float(np.linalg.norm(node._inv, 2)), radius, keeps, known, need)
+        return None if v is None else v * node._factor
+    if not need:
+        return None
     return np.asarray(node._evaluate(c), dtype=np.float64)
+
+
+def _has_boolean(node):
+    """Whether a sharp Boolean lies below the pass-through chain `node`."""
+    while node.kind in _PASS_THROUGH:
+        node = node.children[0]
+    return node.kind in _BOOLEANS
 
 
 class _Walk:
@@ -227,6 +272,47 @@ class _Walk:
         a difference negates its tools (`implicit.facets._decide`)."""
         keep = self.keeps[self.slot]
         self.slot += 1
+        fold = _fold()
+        if fold is None:
+            return self._boolean_each(node, keep, p, bsel)
+        r = p.shape[0]
+        lengths = self.lengths[bsel]
+        offsets = np.cumsum(lengths) - lengths
+        # every (operand, bin) it may decide, operands in order; their points' rows, operand by operand
+        cj, bj = np.nonzero(keep[:, bsel])
+        plen = lengths[bj]
+        rows = _ranges(offsets[bj], plen)
+        count = len(node.children)
+        pair_at = np.concatenate([[0], np.cumsum(np.bincount(cj, minlength=count))])
+        row_at = np.concatenate([[0], np.cumsum(plen)])[pair_at]
+        values = np.empty(rows.shape[0])
+        decs = np.empty(rows.shape[0], dtype=np.intp)
+        negate = node.kind == "difference"
+        for j, child in enumerate(node.children):
+            a, b = int(row_at[j]), int(row_at[j + 1])
+            if a == b:
+                self.skip(child)
+                continue
+            if b - a == r:
+                q, sub = p, bsel
+            else:
+                q, sub = np.ascontiguousarray(p[rows[a:b]]), bsel[bj[pair_at[j]:pair_at[j + 1]]]
+            if child.kind not in _BOOLEANS + _PASS_THROUGH and self.ff._n_facets(child) == 1:
+                # a one-facet leaf (`FacetField._leaf_decide`'s own case, without its array of facet indices)
+                v = np.asarray(child._evaluate(q), dtype=np.float64)
+                decs[a:b] = self.at
+                self.at += 1
+            else:
+                v, d = self.node(child, q, sub)
+                decs[a:b] = d
+            values[a:b] = -v if (j and negate) else v
+        cur = np.empty(r)
+        dec = np.empty(r, dtype=np.intp)
+        fold(rows, values, decs, node.kind == "union", cur, dec, np.zeros(r, dtype=np.bool_))
+        return cur, dec
+
+    def _boolean_each(self, node, keep, p, bsel):
+        """`boolean` without numba: the operands folded one by one by numpy."""
         r = p.shape[0]
         lengths = self.lengths[bsel]
         offsets = np.cumsum(lengths) - lengths
@@ -263,6 +349,15 @@ class _Walk:
                 dec[at] = d[take]
                 filled[pos] = True
         return cur, dec
+
+
+def _fold():
+    """The compiled fold of a Boolean's operands (`implicit.facet_prune_kernel`), or None without numba."""
+    try:
+        from .facet_prune_kernel import first_best
+    except ImportError:
+        return None
+    return first_best
 
 
 def subset_values(ff, points, which):

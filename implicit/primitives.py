@@ -306,11 +306,33 @@ class Capsule(_Primitive):
         object.__setattr__(self, "_r", r)
 
     def _evaluate(self, p):
+        kernels = capsule_kernels()
+        if kernels is not None and p.ndim == 2 and p.shape[1] == 3:
+            out = np.empty(p.shape[0])
+            kernels[0](np.ascontiguousarray(p, dtype=np.float64), self._a, self._ab, self._ab2, self._r, out)
+            return out
         w = p - self._a
         if self._ab2 > 0.0:
             t = np.clip((w @ self._ab) / self._ab2, 0.0, 1.0)
             w = w - t[:, None] * self._ab
         return np.sqrt(np.einsum("ij,ij->i", w, w)) - self._r
+
+
+_CAPSULE_KERNELS: list = []
+
+
+def capsule_kernels():
+    """The compiled ``(capsule_distance, capsule_gradient)`` of `implicit.primitive_kernels`, or None
+    without numba (then numpy evaluates capsules).  Every capsule evaluation takes the same path in a
+    process, whatever ran before: numpy and the loop may round differently."""
+    if not _CAPSULE_KERNELS:
+        try:
+            from .primitive_kernels import capsule_distance, capsule_gradient
+        except ImportError:
+            _CAPSULE_KERNELS.append(None)
+        else:
+            _CAPSULE_KERNELS.append((capsule_distance, capsule_gradient))
+    return _CAPSULE_KERNELS[0]
 
 
 def ellipsoid(radii=(1.0, 1.0, 1.0), center=(0.0, 0.0, 0.0)) -> Solid:

@@ -47,7 +47,8 @@ INFINITE_BOUNDS = (np.full(3, -np.inf), np.full(3, np.inf))
 EVAL_CHUNK = 16384
 
 # Calls with at least this many points may take the compiled fast path
-# (implicit.evaluate.fast_evaluate decides; it needs numba).
+# (implicit.evaluate.fast_evaluate decides; it needs numba).  Smaller calls on a
+# tree of inner nodes ask it too: a large tree takes it from one point.
 FAST_PATH_MIN_POINTS = 2048
 
 
@@ -326,10 +327,10 @@ class Solid:
         shape = pts.shape[:-1]
         flat = np.ascontiguousarray(pts.reshape(-1, 3))
         n = flat.shape[0]
-        if n >= FAST_PATH_MIN_POINTS:
-            # Large calls go through the compiled, pruned evaluation
-            # (implicit.evaluate); None means numpy is used (no numba, or a node
-            # kind without a fast-path rule).
+        if n >= FAST_PATH_MIN_POINTS or (self._children and n):
+            # Large calls (and any call on a large tree) go through the compiled,
+            # pruned evaluation (implicit.evaluate); None means numpy is used (no
+            # numba, a small call on a small tree, or a node kind without a rule).
             fast = _evaluator["fast_evaluate"](self, flat) if _evaluator else None
             if fast is not None:
                 return fast.reshape(shape)

@@ -35,6 +35,15 @@ def main() -> int:
         for features in (False, True):
             spatial.mesh(part, resolution=48, progress=False, features=features)
         spatial.mass_properties(part, resolution=32)
+    # the feature pass on a part of many primitives folds each Boolean's operands by a compiled loop, and
+    # evaluates capsules (a lattice's struts) by theirs
+    from implicit import capsule, union
+    from implicit.facets import PRUNE_MIN_LEAVES, PRUNE_MIN_POINTS, FacetField
+
+    many = union(*[capsule((float(x), 0.0, 0.0), (float(x), 1.0, 0.0), 0.3) for x in range(PRUNE_MIN_LEAVES)])
+    at = np.random.default_rng(0).uniform(-1.0, PRUNE_MIN_LEAVES, (PRUNE_MIN_POINTS, 3))
+    ff = FacetField(many)
+    ff.gradients_of(at, ff.decide(at)[1])
     # outlines of many edges (a gear's) are measured by their own compiled loop
     from implicit.profiles import POLYGON_KERNEL_EDGES, polygon_distance
 

@@ -87,6 +87,7 @@ __all__ = [
     "AUTO_MIN_POINTS",
     "CACHED_MIN_POINTS",
     "PRUNE_MIN_POINTS",
+    "SMALL_CALL_MIN_NODES",
 ]
 
 #: Calls of at least this many points were once needed to compile the interpreter; the fast path
@@ -95,6 +96,11 @@ AUTO_MIN_POINTS = 100_000
 #: Calls from this size take the fast path
 #: (the tape beats numpy from a few hundred points).
 CACHED_MIN_POINTS = 2048
+#: Trees of at least this many nodes take the fast path from one point: numpy pays
+#: 5-10 us a node a call whatever the points (the 540-capsule lattice: 5.5 ms for one point,
+#: 13 ms for 512, against the tape's 0.05 and 1.2 ms; the 51-node gear 0.34 ms against 0.013),
+#: the tape about 10 us a call once built (80 ms for the lattice's 543 nodes, once per solid).
+SMALL_CALL_MIN_NODES = 32
 #: Per-bin pruning (binning, bounds per bin) pays from about this size
 #: (bin sizes: `implicit.evaluate.prune.POINTS_PER_BIN`).
 PRUNE_MIN_POINTS = 8192
@@ -243,6 +249,26 @@ def _store(solid: Solid, parallel: bool, compiled: "CompiledSolid") -> None:
     _COMPILED[key] = (weakref.ref(solid, forget), compiled)
 
 
+# Node counts by id of the solid (as `_COMPILED`): a small call asks for it every time.
+_NODES: dict[int, tuple[weakref.ref, int]] = {}
+
+
+def _nodes(solid: Solid) -> int:
+    """Number of nodes of `solid` (counted once per solid)."""
+    entry = _NODES.get(id(solid))
+    if entry is not None and entry[0]() is solid:
+        return entry[1]
+    count = solid.count_nodes()
+    key = id(solid)
+
+    def forget(_ref, key=key, table=_NODES):
+        entry = table.get(key)
+        if entry is not None and entry[0] is _ref:
+            del table[key]
+    _NODES[key] = (weakref.ref(solid, forget), count)
+    return count
+
+
 def compile_solid(solid: Solid, *, parallel: bool = False, warm: bool = True) -> CompiledSolid:
     """Compile `solid` into a pruned tape for the numba interpreter.
 
@@ -283,14 +309,15 @@ def compile_solid(solid: Solid, *, parallel: bool = False, warm: bool = True) ->
 def fast_evaluate(solid: Solid, flat: np.ndarray):
     """The automatic fast path behind `Solid.__call__`, or None to use numpy.
 
-    A call takes the compiled path from `CACHED_MIN_POINTS` points, loading
-    the interpreter (from numba's disk cache) on first use.  The choice
-    depends on the call alone, never on what the process ran before: numpy
-    and the tape may round differently, and the same solid must give the
-    same values -- and the same mesh -- in every process.
+    A call takes the compiled path from `CACHED_MIN_POINTS` points, or from
+    one point on a tree of `SMALL_CALL_MIN_NODES` nodes or more, loading the
+    interpreter (from numba's disk cache) on first use.  The choice depends
+    on the call and the tree alone, never on what the process ran before:
+    numpy and the tape may round differently, and the same solid must give
+    the same values -- and the same mesh -- in every process.
     """
     n = flat.shape[0]
-    if n < CACHED_MIN_POINTS:
+    if n < CACHED_MIN_POINTS and (n == 0 or _nodes(solid) < SMALL_CALL_MIN_NODES):
         return None
     compiled = compile_solid(solid, warm=False)
     if compiled.backend != "numba":

@@ -262,6 +262,24 @@ def test_solid_call_takes_the_compiled_path_for_large_inputs():
     assert fast._cached(other, False) is None
 
 
+def test_small_calls_of_a_large_tree_take_the_compiled_path():
+    """From `SMALL_CALL_MIN_NODES` nodes a call of a few points runs on the tape (numpy pays per node);
+    a smaller tree's small call stays with numpy, bit for bit its own evaluation."""
+    big = union(*[capsule((x, 0.0, 0.0), (x, 1.0, 0.0), 0.2) for x in range(40)]) & box(90.0)
+    assert big.count_nodes() >= fast.SMALL_CALL_MIN_NODES
+    pts = np.random.default_rng(7).uniform(-1.0, 40.0, (5, 3))
+    assert fast._cached(big, False) is None
+    values = big(pts)
+    assert fast._cached(big, False) is not None          # compiled on the first small call
+    np.testing.assert_allclose(values, fast._numpy_evaluate(big, pts), rtol=TOL, atol=TOL)
+    assert big(pts[:1]).shape == (1,) and big(np.zeros((0, 3))).shape == (0,)
+    small = union(*[sphere(0.5, center=(x, 0.0, 0.0)) for x in range(4)])
+    assert small.count_nodes() < fast.SMALL_CALL_MIN_NODES
+    got = small(pts)
+    assert fast._cached(small, False) is None
+    assert np.array_equal(got, small._evaluate(np.ascontiguousarray(pts)))
+
+
 def test_parallel_kernel_matches():
     part = _plate()
     pts = np.random.default_rng(7).uniform(-5, 5, (60000, 3))

@@ -174,3 +174,43 @@ def test_decide_on_a_lattice_evaluates_the_capsules_near_each_point(capsule_poin
     capsule_points[0] = 0
     ff.values_of(p, dec)
     assert 0 < capsule_points[0] <= p.shape[0]
+
+
+def test_the_fold_without_numba_is_the_compiled_fold_bit_for_bit(monkeypatch):
+    """A Boolean's operands folded by the compiled loop or one by one by numpy: the same values and facets."""
+    import implicit.facet_prune as fp
+
+    solid = union(*[capsule((x, 0.0, 0.0), (x, 1.0, 0.5), 0.3) for x in np.arange(0.0, 5.0, 0.5)]) \
+        - sphere(0.8, center=(2.0, 0.5, 0.0))
+    ff = FacetField(solid)
+    p = _points(4, 6000) * np.array([2.0, 1.0, 1.0]) + np.array([2.0, 0.5, 0.0])
+    v0, d0 = ff._walk_decide(ff.solid, p, [0])
+    v1, d1 = pruned_decide(ff, p)
+    monkeypatch.setattr(fp, "_fold", lambda: None)
+    v2, d2 = pruned_decide(ff, p)
+    assert np.array_equal(v0, v1) and np.array_equal(d0, d1)
+    assert np.array_equal(v0, v2) and np.array_equal(d0, d2)
+    assert len(set(d0.tolist())) > 10                       # many capsules decide somewhere
+
+
+def test_bounds_per_bin_read_the_operands_from_the_tape(capsule_points):
+    """The operands' values at the bins' centres come from one run of the compiled tape: no capsule is
+    evaluated by numpy for them, and the operands kept per bin are those numpy's values keep."""
+    import implicit.facet_prune as fp
+
+    solid, n_caps = capsule_lattice(4)
+    c = np.random.default_rng(2).uniform(0.0, 4.0, (500, 3))
+    radius = np.full(500, 0.2)
+    known = fp._tape_values(solid, c)
+    assert known is not None and len(known) == 2             # the union of capsules and the intersection
+    capsule_points[0] = 0
+    keeps: list = []
+    v = fp._record(solid, c, 1.0, radius, keeps, known)
+    assert capsule_points[0] == 0
+    want: list = []
+    v0 = fp._record(solid, c, 1.0, radius, want)
+    assert capsule_points[0] == n_caps * 500
+    np.testing.assert_allclose(v, v0, rtol=1e-12, atol=1e-12)
+    assert len(keeps) == len(want) == 2
+    assert all(np.array_equal(a, b) for a, b in zip(keeps, want))
+    assert 0 < keeps[1].sum() < keeps[1].size / 10            # a few capsules a bin, not all 300
