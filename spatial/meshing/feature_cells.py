@@ -37,7 +37,7 @@ def _tri_normal(pts, a, b, c):
 @numba.njit(cache=True, nogil=True)
 def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked):
     """The runs of triangles of one lattice cell and whether one of a run's triangles departs from a
-    vertex normal, in one pass each; the vertex normals go into `vn` (zeros on entry).
+    vertex normal, in one pass each; the vertex normals go into `vn` (overwritten).
 
     A run is a maximal stretch of consecutive triangles of one cell (the
     merged mesh keeps a cell's triangles together: about one run per cell).
@@ -55,6 +55,7 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, r
     top = np.full(3, -np.inf)
     for v in range(n):
         for j in range(3):
+            vn[v, j] = 0.0
             q = pts[v, j]
             if q < bottom[j]:
                 bottom[j] = q
