@@ -150,7 +150,7 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
     Returns
     -------
     tri, tcell : the triangles in candidate cells, by cell, and the cell of each
-    pcell, pvert : the (cell, vertex) pairs, sorted
+    pvert : the vertices of the (cell, vertex) pairs sorted (cell ``c``'s are ``starts[c]:starts[c + 1]``)
     starts : (cells + 1,) first pair of every cell
     verts, pinv : the distinct vertices (sorted) and each pair's index among them
 
@@ -234,11 +234,7 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
                 buf[i] = v
                 r += 1
     starts[n_cells] = r
-    pvert = buf[:r].copy()
-    pcell = np.empty(r, np.int64)
-    for c in range(n_cells):
-        for i in range(starts[c], starts[c + 1]):
-            pcell[i] = c
+    pvert = buf[:r]
     for v in range(n):
         index[v] = -1
     for i in range(r):
@@ -257,7 +253,7 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
     pinv = np.empty(r, np.int64)
     for i in range(r):
         pinv[i] = index[pvert[i]]
-    return tri, tcell, pcell, pvert, starts, verts, pinv
+    return tri, tcell, pvert, starts, verts, pinv
 
 
 # -- the pass's stages, each one compiled function (one cache load each in a fresh process) ------
@@ -290,6 +286,6 @@ def _cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, ru
     (m,), `run_marked` (m,), `index` (n,))."""
     n_runs, lo, s = _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked)
     cand = _sorted_unique(run_key[:n_runs][run_marked[:n_runs]])
-    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(run_start, run_key, n_runs, cand, faces,
-                                                                 pts.shape[0], index)
+    tri, tcell, pvert, starts, verts, pinv = _group_cells(run_start, run_key, n_runs, cand, faces, pts.shape[0],
+                                                          index)
     return cand, lo, s, tri, tcell, pvert, starts, verts, pinv
