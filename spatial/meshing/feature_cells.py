@@ -237,19 +237,19 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
     pvert = buf[:r]
     for v in range(n):
         index[v] = -1
-    for i in range(r):
-        index[pvert[i]] = 0
     n_verts = 0
+    for i in range(r):
+        if index[pvert[i]] < 0:
+            index[pvert[i]] = 0
+            n_verts += 1
+    # (numbered in one pass over the vertices, in their order: the distinct vertices come out sorted)
+    verts = np.empty(n_verts, np.int64)
+    k = 0
     for v in range(n):
         if index[v] == 0:
-            index[v] = n_verts
-            n_verts += 1
-        else:
-            index[v] = -1
-    verts = np.empty(n_verts, np.int64)
-    for v in range(n):
-        if index[v] >= 0:
-            verts[index[v]] = v
+            index[v] = k
+            verts[k] = v
+            k += 1
     pinv = np.empty(r, np.int64)
     for i in range(r):
         pinv[i] = index[pvert[i]]
