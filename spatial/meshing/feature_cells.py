@@ -37,7 +37,7 @@ def _tri_normal(pts, a, b, c):
 @numba.njit(cache=True, nogil=True)
 def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked):
     """The runs of triangles of one lattice cell and whether one of a run's triangles departs from a
-    vertex normal, in one pass each; the vertex normals go into `vn` (zeros on entry).
+    vertex normal, in one pass each; the vertex normals go into `vn` (overwritten).
 
     A run is a maximal stretch of consecutive triangles of one cell (the
     merged mesh keeps a cell's triangles together: about one run per cell).
@@ -55,6 +55,7 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, r
     top = np.full(3, -np.inf)
     for v in range(n):
         for j in range(3):
+            vn[v, j] = 0.0
             q = pts[v, j]
             if q < bottom[j]:
                 bottom[j] = q
@@ -149,7 +150,7 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
     Returns
     -------
     tri, tcell : the triangles in candidate cells, by cell, and the cell of each
-    pcell, pvert : the (cell, vertex) pairs, sorted
+    pvert : the vertices of the (cell, vertex) pairs sorted (cell ``c``'s are ``starts[c]:starts[c + 1]``)
     starts : (cells + 1,) first pair of every cell
     verts, pinv : the distinct vertices (sorted) and each pair's index among them
 
@@ -233,30 +234,26 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
                 buf[i] = v
                 r += 1
     starts[n_cells] = r
-    pvert = buf[:r].copy()
-    pcell = np.empty(r, np.int64)
-    for c in range(n_cells):
-        for i in range(starts[c], starts[c + 1]):
-            pcell[i] = c
+    pvert = buf[:r]
     for v in range(n):
         index[v] = -1
-    for i in range(r):
-        index[pvert[i]] = 0
     n_verts = 0
+    for i in range(r):
+        if index[pvert[i]] < 0:
+            index[pvert[i]] = 0
+            n_verts += 1
+    # (numbered in one pass over the vertices, in their order: the distinct vertices come out sorted)
+    verts = np.empty(n_verts, np.int64)
+    k = 0
     for v in range(n):
         if index[v] == 0:
-            index[v] = n_verts
-            n_verts += 1
-        else:
-            index[v] = -1
-    verts = np.empty(n_verts, np.int64)
-    for v in range(n):
-        if index[v] >= 0:
-            verts[index[v]] = v
+            index[v] = k
+            verts[k] = v
+            k += 1
     pinv = np.empty(r, np.int64)
     for i in range(r):
         pinv[i] = index[pvert[i]]
-    return tri, tcell, pcell, pvert, starts, verts, pinv
+    return tri, tcell, pvert, starts, verts, pinv
 
 
 # -- the pass's stages, each one compiled function (one cache load each in a fresh process) ------
@@ -289,6 +286,6 @@ def _cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, ru
     (m,), `run_marked` (m,), `index` (n,))."""
     n_runs, lo, s = _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked)
     cand = _sorted_unique(run_key[:n_runs][run_marked[:n_runs]])
-    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(run_start, run_key, n_runs, cand, faces,
-                                                                 pts.shape[0], index)
+    tri, tcell, pvert, starts, verts, pinv = _group_cells(run_start, run_key, n_runs, cand, faces, pts.shape[0],
+                                                          index)
     return cand, lo, s, tri, tcell, pvert, starts, verts, pinv

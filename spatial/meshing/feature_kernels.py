@@ -78,7 +78,7 @@ def _eigh3(a, w, u):
 
 @numba.njit(cache=True, nogil=True)
 def _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells):
-    """Per cell: the mass point of its vertices and the QEF minimiser around it, with its rank.
+    """Per cell: the QEF minimiser around the mass point of its vertices, with its rank.
 
     ``sum (n_i . (x - p_i))^2`` over the cell's (vertex, exact normal) pairs is
     minimised relative to the mass point by the pseudo-inverse of ``A^T A``
@@ -87,7 +87,7 @@ def _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells):
     solved; the others are given rank 0 and the point 0.
     """
     n_cells = starts.shape[0] - 1
-    mass = np.zeros((n_cells, 3))
+    mass = np.empty(3)
     x = np.zeros((n_cells, 3))
     rank = np.zeros(n_cells, np.int64)
     a = np.empty((3, 3))
@@ -98,11 +98,12 @@ def _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells):
         if not open_cells[c]:
             continue
         s0, s1 = starts[c], starts[c + 1]
+        mass[:] = 0.0
         for i in range(s0, s1):
             for j in range(3):
-                mass[c, j] += pts[pvert[i], j]
+                mass[j] += pts[pvert[i], j]
         for j in range(3):
-            mass[c, j] /= s1 - s0
+            mass[j] /= s1 - s0
         a[:, :] = 0.0
         b[:] = 0.0
         for i in range(s0, s1):
@@ -110,7 +111,7 @@ def _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells):
             e = pinv[i]
             d = 0.0
             for j in range(3):
-                d += normal[e, j] * (pts[v, j] - mass[c, j])
+                d += normal[e, j] * (pts[v, j] - mass[j])
             for j in range(3):
                 b[j] += normal[e, j] * d
                 for k in range(3):
@@ -118,14 +119,14 @@ def _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells):
         _eigh3(a, w, u)
         top = max(w[0], w[1], w[2])
         for j in range(3):
-            x[c, j] = mass[c, j]
+            x[c, j] = mass[j]
         for k in range(3):
             if w[k] > cutoff * top:
                 rank[c] += 1
                 ub = (u[0, k] * b[0] + u[1, k] * b[1] + u[2, k] * b[2]) / w[k]
                 for j in range(3):
                     x[c, j] += u[j, k] * ub
-    return mass, x, rank
+    return x, rank
 
 
 @numba.njit(cache=True, nogil=True)
@@ -172,10 +173,10 @@ def _cell_labels(pinv, decider, starts):
 
 
 @numba.njit(cache=True, nogil=True)
-def _cell_borders(t_verts, tcell, feature, n):
+def _cell_borders(faces, tri, tcell, feature, n):
     """Border edges of every feature cell's patch, and whether the patch is one disc.
 
-    The triangles come grouped by cell (`tcell` sorted).  An edge met once
+    The triangles ``faces[tri]`` come grouped by cell (`tcell` sorted).  An edge met once
     among a cell's triangles is on its border; the patch is one disc when
     ``V - E + F == 1`` and it has as many border vertices as border edges
     (one simple loop), at least three.  The border edges of the disc cells
@@ -184,7 +185,7 @@ def _cell_borders(t_verts, tcell, feature, n):
     """
     n_cells = feature.shape[0]
     disc = np.zeros(n_cells, np.bool_)
-    m = t_verts.shape[0]
+    m = tri.shape[0]
     b0 = np.empty(3 * m, np.int64)
     b1 = np.empty(3 * m, np.int64)
     bc = np.empty(3 * m, np.int64)
@@ -208,7 +209,7 @@ def _cell_borders(t_verts, tcell, feature, n):
             q = 0
             for i in range(t, u):
                 for j in range(3):
-                    a, b = t_verts[i, j], t_verts[i, (j + 1) % 3]
+                    a, b = np.int64(faces[tri[i], j]), np.int64(faces[tri[i], (j + 1) % 3])
                     e0[q] = a
                     e1[q] = b
                     ek[q] = min(a, b) * n + max(a, b)
@@ -340,13 +341,9 @@ def _cell_faces(pinv, decider, starts, smooth, need):
 @numba.njit(cache=True, nogil=True)
 def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, open_cells, cutoff):
     """`_qef` of the open cells and the `_cell_borders` of those of rank 2 or more, in one call."""
-    _, x, rank = _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells)
-    t_verts = np.empty((tri.shape[0], 3), np.int64)
-    for i in range(tri.shape[0]):
-        for j in range(3):
-            t_verts[i, j] = faces[tri[i], j]
+    x, rank = _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells)
     edge = np.empty(rank.shape[0], np.bool_)
     for c in range(rank.shape[0]):
         edge[c] = rank[c] >= 2
-    b0, b1, bc, disc = _cell_borders(t_verts, tcell, edge, pts.shape[0])
+    b0, b1, bc, disc = _cell_borders(faces, tri, tcell, edge, pts.shape[0])
     return x, rank, b0, b1, bc, disc

@@ -88,7 +88,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .arrays import _release_free_memory
 from .feature_collapse import finish
 from .feature_cells import _cells, _nodes
 from .feature_kernels import _cell_faces, _facing_kernel, _newton_step, _solve_cells
@@ -113,6 +112,8 @@ CELL_MARGIN = 1e-3
 MIN_FACING = 0.3
 #: Rounds of rejecting bad cells before the pass gives up (and returns the plain mesh).
 ROUNDS = 6
+#: The fans' vertices go in the rows after the points where they are at most one per ROOM points.
+ROOM = 16
 
 
 def _unit(v):
@@ -205,7 +206,10 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
 
     # -- 1. candidate cells, from the mesh alone ---------------------------------------------
     # (`index`: each vertex's row among the candidate cells' vertices, -1 for the others)
-    vn, index = np.zeros((n, 3)), np.empty(n, np.int32)
+    # (the vertex normals' rows, once read, take the points of the fans: `room` has rows for the fans'
+    # vertices beyond them, which are never touched unless used)
+    room, index = np.empty((n + n // ROOM + 256, 3)), np.empty(n, np.int32)
+    vn = room[:n]
     work = np.empty(m + 1, np.int32 if m < 2 ** 31 else np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
                                                                  at_node, vn, *work, index)
@@ -213,7 +217,7 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     if cand.shape[0] == 0:
         return plain()
     n_cells = cand.shape[0]
-    vn = vn[verts]
+    vn = vn[verts]        # (a copy: `room` is free for the fans' points)
 
     # -- 2. exact normals at the vertices of the candidate cells that may hold an edge --------
     # the deciding facets of every candidate vertex, which rule out the cells on one smooth facet (most of
@@ -232,7 +236,6 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
         del g
     del vn, at_verts, need, rows
     exact = (normal, index)
-    _release_free_memory()    # the facets' temporaries, freed but kept by the heap, before the fans' points
 
     # -- 3. QEF per open cell ----------------------------------------------------------------
     # (the border of each cell's patch, for the cells of rank 2 or more; the faces in each cell, most
@@ -249,8 +252,13 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
 
     # -- 4./5. fans and flips, with the cells that fail handed back --------------------------
     feature &= disc           # cells whose patch is not one disc are left alone
+    # (the rounds only take cells away: the first round's fans are the most there are)
+    if feature.any() and room.shape[0] >= n + int(feature.sum()):
+        room[:n] = pts
+    else:
+        room = None
     for _ in range(ROUNDS):
-        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x)
+        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x, room)
         bad = _facing_badly(newp, new_faces, exact, n)
         if not bad.any():
             break
@@ -260,7 +268,7 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
         return plain()
     # (`newp`, unless no fan was made, is this pass's own array: the points used are gathered in it)
     own = newp is not pts
-    del plain, pts
+    del plain, pts, room
     drop = np.zeros(f.shape[0], np.bool_)
     drop[tri[feature[tcell]]] = True
     # the fans' two extra triangles each are taken back by collapsing a polygon vertex into the feature
@@ -414,14 +422,16 @@ def _newton(ff, q, idx, used, h, steps):
     return q, jac
 
 
-def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
+def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x, room=None):
     """Fans of the feature cells (whose patch is one disc: `_cell_borders`), and the flips between them.
 
     Returns the new triangles, for each the cells it came from (two for a
     flipped pair, the second -1 otherwise) as ``owner`` (k, 2), and the cells
     that received a vertex (vertex ``n + i`` is cell ``fan_cells[i]``) and
-    the points with those vertices appended.  A flip is made only where both
-    of its triangles face their ordinary vertices' normals.
+    the points with those vertices appended (in the rows of `room` from
+    ``n`` on, when given: an array holding the points in its first rows,
+    with rows enough).  A flip is made only where both of its triangles
+    face their ordinary vertices' normals.
     """
     b0, b1, bc = borders
     keep = feature[bc]
@@ -446,7 +456,11 @@ def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x):
     uk, cnt = np.unique(fk, return_counts=True)
     single = cnt[np.searchsorted(uk, fk)] == 1
     i, j = i[single], j[single]
-    newp = np.concatenate([pts, x[fan_cells]])
+    if room is not None:
+        newp = room[:n + fan_cells.shape[0]]
+        newp[n:] = x[fan_cells]
+    else:
+        newp = np.concatenate([pts, x[fan_cells]])
     # (a, b, F1) and (b, a, F2) become (a, F2, F1) and (F2, b, F1)
     a_, b_, f1, f2 = fan[i, 0], fan[i, 1], fan[i, 2], fan[j, 2]
     t1, t2 = np.stack([a_, f2, f1], axis=1), np.stack([f2, b_, f1], axis=1)

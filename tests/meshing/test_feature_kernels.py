@@ -57,8 +57,8 @@ def test_group_cells_by_runs_is_the_stable_sort():
     assert np.unique(keys).shape[0] < rkey.shape[0]        # some cell is split into several runs
     cells = np.unique(rkey[rng.random(rkey.shape[0]) < 0.3])
     index = np.empty(n, np.int32)
-    tri, tcell, pcell, pvert, starts, verts, pinv = _group_cells(start, rkey.copy(), rkey.shape[0], cells, faces, n,
-                                                                 index)
+    tri, tcell, pvert, starts, verts, pinv = _group_cells(start, rkey.copy(), rkey.shape[0], cells, faces, n, index)
+    pcell = np.repeat(np.arange(cells.shape[0]), np.diff(starts))
     inside = np.isin(keys, cells)
     order = np.argsort(keys[inside], kind="stable")
     want_tri = np.flatnonzero(inside)[order]
@@ -159,3 +159,17 @@ def test_cell_faces_open_the_cells_not_on_one_smooth_facet():
     assert np.array_equal(open_cells, want_open) and 0 < want_open.sum() < n_cells
     cell = np.repeat(np.arange(n_cells), sizes)
     assert np.array_equal(need, np.isin(np.arange(n_verts), pinv[want_open[cell]]))
+
+
+
+def test_fans_points_in_the_normals_rows_or_appended_are_the_same(captured, monkeypatch):
+    """The fans' points go in the rows after the vertex normals' when they fit, else are appended: the same."""
+    from spatial.meshing import features
+
+    pts, faces, origin, h = captured["points"], captured["faces"], captured["origin"], captured["h"]
+    roomy = features._sharpen(benchmark_part(), [pts.copy(), faces.copy()], origin, h, overwrite=True)
+    monkeypatch.setattr(features, "ROOM", 10 ** 9)          # 256 rows beyond the points: too few
+    tight = features._sharpen(benchmark_part(), [pts.copy(), faces.copy()], origin, h, overwrite=True)
+    assert tight["feature_cells"] == roomy["feature_cells"] > 256
+    for key in ("points", "faces", "feature_rank", "feature_facets"):
+        assert np.array_equal(tight[key], roomy[key])
