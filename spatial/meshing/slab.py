@@ -8,7 +8,7 @@ import threading
 
 import numpy as np
 
-from .saddles import break_ties
+from .saddles import break_ties_marked
 from .arrays import _evaluate, _nudge, _release_free_memory, _settle_ties
 from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, infer_around, needed_nodes,
                       node_ids, node_points, paint_parents, ring_to_nodes, take_block)
@@ -279,24 +279,28 @@ class _SlabJob:
         # one block's box at a time, built in place (no slab of voxels, no per-block arrays)
         flat_vol = _take(scratch, "vol", ((B + 1) ** 3,), np.float32)
         flat_mask = _take(scratch, "mask", ((B + 1) ** 3,), np.bool_)
-        gy = self.bys * B
-        gz = self.bzs * B
+        # the marks of `break_ties_marked`: cleared once, left clear by every block
+        flat_marks = scratch.marks((B + 1) ** 3)
+        # every block's box corner and size (voxels) and global corner as Python ints, in one go
+        boxes = np.concatenate([lows * c, (highs - lows) * c, (self.bys * B)[:, None], (self.bzs * B)[:, None]],
+                               axis=1).tolist()
+        stride = int(stride)
         for b in range(self.nb):
-            xs, ys, zs = (lows[b] * c).tolist()
-            nx, ny, nz = ((highs[b] - lows[b]) * c).tolist()
+            xs, ys, zs, nx, ny, nz, gy, gz = boxes[b]
             shape = (nx + 1, ny + 1, nz + 1)
             size = shape[0] * shape[1] * shape[2]
             # a box spanning the block in y and z is a contiguous run of the slab's samples: no copy
             whole = ys == 0 and zs == 0 and ny == B and nz == B
             block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask, not whole)
             vol = values[b, xs:xs + nx + 1] if whole else flat_vol[:size].reshape(shape)
-            mask = flat_mask[:size].reshape(shape)
-            verts, tri = _marching_cubes_raw(break_ties(vol), mask)   # contacts fuse (saddles.py)
+            # contacts fuse (saddles.py)
+            vol = break_ties_marked(vol, flat_marks[:size].reshape(shape))
+            verts, tri = _marching_cubes_raw(vol, flat_mask[:size].reshape(shape))
             if verts.shape[0] == 0 or tri.shape[0] == 0:
                 continue
             buf.reserve(verts.shape[0], tri.shape[0] // 3)
             buf.vat, buf.fat, buf.eat = take_block(
-                verts, tri, values, b, xs, ys, zs, B, x0, int(gy[b]), int(gz[b]), int(stride), buf.node, buf.axis,
+                verts, tri, values, b, xs, ys, zs, B, x0, gy, gz, stride, buf.node, buf.axis,
                 buf.f0, buf.f1, buf.shared, buf.edge, buf.faces, buf.vat, buf.fat, buf.eat)
         if buf.vat == 0:
             return None
@@ -312,6 +316,7 @@ class _Scratch:
     def __init__(self):
         self.arrays = {}
         self._buffers = None
+        self._marks = None
 
     def take(self, name, shape, dtype):
         n = int(np.prod(shape))
@@ -323,6 +328,12 @@ class _Scratch:
             arr = np.empty(n + n // 4, dtype=dtype)
             self.arrays[name] = arr
         return arr[:n].reshape(shape)
+
+    def marks(self, n):
+        """``n`` False booleans, kept for the next slab (their users leave them False)."""
+        if self._marks is None or self._marks.shape[0] < n:
+            self._marks = np.zeros(n, dtype=np.bool_)
+        return self._marks[:n]
 
     def buffers(self, capacity):
         if self._buffers is None or self._buffers.cap > 2 * capacity + 4096:
