@@ -377,23 +377,45 @@ def block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, vol, mask, with_val
     ``vol`` holds ``values[b, xs:xs+nx+1, ys:ys+ny+1, zs:zs+nz+1]`` (left alone unless
     `with_values`); ``mask[i+1, j+1, k+1]`` is the cell (of `c` voxels) holding voxel ``(xs+i,
     ys+j, zs+k)``, the lower planes False (scikit-image's convention for the voxel with lower node
-    ``(i, j, k)``).
+    ``(i, j, k)``).  A mask row (or plane) whose voxels lie in the same cells as the previous
+    one's is a copy of it: of every `c` rows one is read from the cells.
     """
     my = ny + 1
     mz = nz + 1
-    for i in range(nx + 1):
-        for j in range(my):
-            row = (i * my + j) * mz
-            if with_values:
-                src = values[b, xs + i, ys + j]
+    plane = my * mz
+    if with_values:
+        n1 = values.shape[3]
+        src = values.reshape(-1)   # flat offsets: no view made per row
+        for i in range(nx + 1):
+            for j in range(my):
+                row = (i * my + j) * mz
+                at = ((b * values.shape[1] + xs + i) * values.shape[2] + ys + j) * n1 + zs
                 for k in range(mz):
-                    vol[row + k] = src[zs + k]
+                    vol[row + k] = src[at + k]
+    for k in range(plane):
+        mask[k] = False
+    for i in range(1, nx + 1):
+        base = i * plane
+        ci = (xs + i - 1) // c
+        if i > 1 and (xs + i - 2) // c == ci:
+            for k in range(plane):
+                mask[base + k] = mask[base - plane + k]
+            continue
+        for k in range(mz):
+            mask[base + k] = False
+        for j in range(1, my):
+            row = base + j * mz
+            cj = (ys + j - 1) // c
+            if j > 1 and (ys + j - 2) // c == cj:
+                for k in range(mz):
+                    mask[row + k] = mask[row - mz + k]
+                continue
+            held = cells[b, ci, cj]
             mask[row] = False
-            if i == 0 or j == 0:
+            if c == 2:
                 for k in range(1, mz):
-                    mask[row + k] = False
+                    mask[row + k] = held[(zs + k - 1) >> 1]
             else:
-                held = cells[b, (xs + i - 1) // c, (ys + j - 1) // c]
                 for k in range(1, mz):
                     mask[row + k] = held[(zs + k - 1) // c]
 

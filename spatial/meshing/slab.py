@@ -276,8 +276,8 @@ class _SlabJob:
         lows, highs = block_boxes(*self.cl, self.nb, self.P)
         scratch = self.scratch if self.scratch is not None else _Scratch()
         buf = scratch.buffers(self.capacity_hint)
-        # one block's box at a time, built in place (no slab of voxels, no per-block arrays)
-        flat_vol = _take(scratch, "vol", ((B + 1) ** 3,), np.float32)
+        # one block's mask at a time, built in place (no slab of voxels, no per-block arrays)
+        flat_vol = np.empty(0, np.float32)   # (`block_input` copies no samples here)
         flat_mask = _take(scratch, "mask", ((B + 1) ** 3,), np.bool_)
         # the marks of `break_ties_marked`: cleared once, left clear by every block
         flat_marks = scratch.marks((B + 1) ** 3)
@@ -289,10 +289,10 @@ class _SlabJob:
             xs, ys, zs, nx, ny, nz, gy, gz = boxes[b]
             shape = (nx + 1, ny + 1, nz + 1)
             size = shape[0] * shape[1] * shape[2]
-            # a box spanning the block in y and z is a contiguous run of the slab's samples: no copy
-            whole = ys == 0 and zs == 0 and ny == B and nz == B
-            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask, not whole)
-            vol = values[b, xs:xs + nx + 1] if whole else flat_vol[:size].reshape(shape)
+            # the box as a view of the slab's samples: scikit-image's kernel reads strided boxes as it
+            # reads contiguous ones (the same output), so no box is copied
+            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask, False)
+            vol = values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1]
             # contacts fuse (saddles.py)
             vol = break_ties_marked(vol, flat_marks[:size].reshape(shape))
             verts, tri = _marching_cubes_raw(vol, flat_mask[:size].reshape(shape))
@@ -309,7 +309,7 @@ class _SlabJob:
 
 class _Scratch:
     """Slab-sized arrays lent from one slab to the next of a `run_slabs` call: the dense node codes
-    and samples, one block's box and mask, the vertex buffers.  Every use writes all it reads
+    and samples, one block's mask, the vertex buffers.  Every use writes all it reads
     (`ring_to_nodes`, `fill_values`, `block_input`), so nothing of an earlier slab shows through;
     reuse saves the page faults of fresh arrays (some 300 MB of them per N=512 mesh)."""
 
