@@ -60,6 +60,9 @@ def chunks_spy(work, n, chunk=am.EVAL_CHUNK, threads=2):
     C.append((threads, times))
 bm._chunks_on_threads = chunks_spy
 rm._chunks_on_threads = chunks_spy
+import spatial.meshing.blocks as blm
+if hasattr(blm, "_chunks_on_threads"):   # the merge's parts on two threads (the column: this thread's share)
+    blm._chunks_on_threads = chunks_spy
 orig = sm.run_slabs
 cm.run_slabs = lambda tasks, parts, overlap=False: orig(tasks, parts, overlap=False)
 mesh(part, resolution=64, progress=False, features=feat)

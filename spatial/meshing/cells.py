@@ -228,7 +228,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     finally:
         bar.close()
     del pieces
-    data, faces = merge_blocks(parts)
+    data, faces = merge_blocks(parts, threads=slab_threads)
     del parts
     _release_free_memory()
     if faces.shape[0] == 0:
