@@ -333,6 +333,15 @@ def place_vertices(nodes, axis, t, h, origin):
     return p
 
 
+@numba.njit(cache=True, nogil=True)
+def place_rows(nodes, axis, t, h, origin, p, a, b):
+    """`place_vertices` of the vertices ``a .. b-1``, into the rows of `p`."""
+    for i in range(a, b):
+        for k in range(3):
+            p[i, k] = nodes[i, k] * h + origin[k]
+        p[i, axis[i]] += t[i] * h
+
+
 @numba.njit(cache=True, nogil=True, inline="always")
 def _block_node(q, n1):
     """Block and node ``(b, x, y, z)`` of the flat position `q` in the blocks' ``(B+1)^3`` arrays."""
