@@ -468,6 +468,27 @@ def needed_nodes(code, B, flat, s_n, maybe, upper):
 
 
 @numba.njit(cache=True, nogil=True)
+def index_positions(flat, where):
+    """``where[flat[i]] = i``: each needed node's row at its flat position (the other entries of
+    `where` are left as they were: read them only through `put_sampled`'s check)."""
+    for i in range(flat.shape[0]):
+        where[flat[i]] = i
+
+
+@numba.njit(cache=True, nogil=True)
+def put_sampled(flat, where, b_, x_, y_, z_, v, n1, v_n):
+    """``v_n[i] = v[j]`` for every sampled node ``j`` (block `b_`, position ``x_, y_, z_``) that is
+    needed node ``i``: its flat position found through `where` (`index_positions`) and checked
+    against `flat` (so stale entries of `where` are never taken), in the order of the samples."""
+    n = flat.shape[0]
+    for j in range(v.shape[0]):
+        q = ((np.int64(b_[j]) * n1 + x_[j]) * n1 + y_[j]) * n1 + z_[j]
+        i = where[q]
+        if 0 <= i < n and flat[i] == q:
+            v_n[i] = v[j]
+
+
+@numba.njit(cache=True, nogil=True)
 def paint_parents(state, idx, sgn, x0, y0, z0, negative, positive):
     """OR the sign of uniform cells twice as large (`idx`, `sgn`) into the cell states over their
     eight children, ``state[child - (x0, y0, z0)]``, those inside `state` only (one pass over the

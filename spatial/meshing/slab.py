@@ -10,8 +10,8 @@ import numpy as np
 
 from .saddles import break_ties_marked
 from .arrays import _evaluate, _nudge, _release_free_memory, _settle_ties
-from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, infer_around, needed_nodes,
-                      node_ids, node_points, paint_parents, ring_to_nodes, take_block)
+from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, index_positions, infer_around,
+                      needed_nodes, node_ids, node_points, paint_parents, put_sampled, ring_to_nodes, take_block)
 
 __all__ = []
 
@@ -180,13 +180,15 @@ class _SlabJob:
             return node_ids(flat, rows, B, int(x0), y_base, z_base, int(stride))
 
         v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
-        for b_, x_, y_, z_, v in sampled:
-            # nodes already sampled (never on a block face) hold their values
-            at = ((b_.astype(np.int64) * (B + 1) + x_) * (B + 1) + y_) * (B + 1) + z_
-            # in flat's own dtype (positions fit it): a wider query would cast all of flat per call
-            pos = np.minimum(np.searchsorted(flat, at.astype(flat.dtype)), flat.shape[0] - 1)
-            hit = flat[pos] == at
-            v_n[pos[hit]] = v[hit]
+        if sampled:
+            # nodes already sampled (never on a block face) hold their values: found through the
+            # row of every needed node at its position, written into the slab's samples array (not
+            # filled before `fill_values` below; 32-bit rows fit it)
+            where = _take(self.scratch, "values", (code.size,), np.float32).view(np.int32)
+            index_positions(flat, where)
+            for b_, x_, y_, z_, v in sampled:
+                put_sampled(flat, where, b_, x_, y_, z_, v, B + 1, v_n)
+            del where
         del sampled
         m_idx = np.flatnonzero(maybe)
         uniq, ufirst, back = np.unique(ids(m_idx), return_index=True, return_inverse=True)

@@ -193,3 +193,28 @@ def test_merge_blocks_refuses_a_bad_thread_count():
 
     with pytest.raises(ValueError, match="threads"):
         merge_blocks([], threads=0)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_put_sampled_is_the_sorted_search_and_ignores_stale_rows(seed):
+    from spatial.meshing.kernels import index_positions, put_sampled
+
+    rng = np.random.default_rng(seed)
+    n1, nb = 5, 3
+    size = nb * n1 ** 3
+    flat = np.sort(rng.choice(size, size=60, replace=False)).astype(np.int32)
+    # stale rows everywhere, some of them in range: only a needed node's own row may be taken
+    where = rng.integers(-5, 70, size=size).astype(np.int32)
+    index_positions(flat, where)
+    b_, x_, y_, z_ = (rng.integers(0, m, size=200) for m in (nb, n1, n1, n1))
+    v = rng.standard_normal(200).astype(np.float32)
+    got = np.full(flat.shape[0], np.nan, np.float32)
+    put_sampled(flat, where, b_, x_, y_, z_, v, n1, got)
+    want = np.full(flat.shape[0], np.nan, np.float32)
+    at = ((b_ * n1 + x_) * n1 + y_) * n1 + z_
+    pos = np.minimum(np.searchsorted(flat, at), flat.shape[0] - 1)
+    hit = flat[pos] == at
+    for p, val in zip(pos[hit], v[hit]):   # in the samples' order: the last of a repeated node wins
+        want[p] = val
+    assert np.array_equal(got, want, equal_nan=True)
+    assert 0 < np.count_nonzero(~np.isnan(got)) < flat.shape[0]
