@@ -82,10 +82,8 @@ CELLS_PER_CANDIDATE = 512
 #: A feature thinner than this many voxels may be lost (the walls' rule: coarser than half of it).
 LOST_VOXELS = 2.0
 #: Largest grid of cells of edge 2h held at once: a shell whose box holds more is searched slab by
-#: slab along x (float32: 8 MB).  Slabs of a few MB are quicker than one grid over the whole box
-#: (N=512: 0.10 -> 0.07 s CPU): one buffer, written and cleared where the shell lies, stays in the
-#: caches instead of 64 MB of fresh pages filled with NaN.
-DENSE_CELLS = 1 << 21
+#: slab along x (float32: 64 MB).
+DENSE_CELLS = 1 << 24
 #: Marks a neighbour of unknown value asked for (above any value or `_FAR`, until written).
 _MARK = 3e38
 #: Value standing for a uniform cell's (beyond any boundary cell's value).
