@@ -60,6 +60,10 @@ def chunks_spy(work, n, chunk=am.EVAL_CHUNK, threads=2):
     C.append((threads, times))
 bm._chunks_on_threads = chunks_spy
 rm._chunks_on_threads = chunks_spy
+import spatial.meshing.blocks as blm
+for mod in (blm, cm):   # the merge's parts (the column: this thread's share), the vertex stage on two threads
+    if hasattr(mod, "_chunks_on_threads"):
+        mod._chunks_on_threads = chunks_spy
 orig = sm.run_slabs
 cm.run_slabs = lambda tasks, parts, overlap=False: orig(tasks, parts, overlap=False)
 mesh(part, resolution=64, progress=False, features=feat)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .arrays import _release_free_memory
+from .arrays import _chunks_on_threads, _release_free_memory
 from .kernels import part_index, remap_faces, scatter_rows
 
 __all__ = ["mesh_block", "merge_blocks", "check_block", "INTERIOR"]
@@ -110,7 +110,7 @@ def _edges_of(verts):
     return node, axis
 
 
-def merge_blocks(parts):
+def merge_blocks(parts, threads=1):
     """Merge per-block results into one indexed mesh keyed by global edge id.
 
     Only vertices on an edge lying in a block-grid plane can belong to two
@@ -126,6 +126,10 @@ def merge_blocks(parts):
         blocks has the same data in both) and the triangles (local vertex
         indices).  The list is emptied as it is merged, so that the memory
         of the parts is released as the merged arrays fill.
+    threads : int
+        Parts written into the merged arrays on this many threads (compiled,
+        GIL-free copies; every part has its own rows, so the result is the
+        same).
 
     Returns
     -------
@@ -134,34 +138,40 @@ def merge_blocks(parts):
     faces : (f, 3) int32 (int64 beyond 2**31 vertices)
         Triangles indexing the merged vertices.
     """
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise ValueError(f"threads: expected a positive integer, got {threads!r}")
     parts[:] = [p for p in parts if p[3].shape[0]]
     if not parts:
         return None, np.empty((0, 3), np.int32)
     shared_edges = np.concatenate([p[0] for p in parts])
     uniq, inverse = np.unique(shared_edges, return_inverse=True)
     del shared_edges
-    n_private = sum(int(p[1].shape[0] - np.count_nonzero(p[1])) for p in parts)
+    # each part's first face row, first private slot and first shared entry
+    k_sh = np.array([int(np.count_nonzero(p[1])) for p in parts], dtype=np.int64)
+    k_pr = np.array([p[1].shape[0] for p in parts], dtype=np.int64) - k_sh
+    k_f = np.array([p[3].shape[0] for p in parts], dtype=np.int64)
+    starts = [np.concatenate([[0], np.cumsum(k)]).tolist() for k in (k_f, k_pr, k_sh)]
+    n_private = int(starts[1][-1])
     n_total = n_private + uniq.shape[0]
     del uniq
     itype = np.int32 if n_total < 2 ** 31 else np.int64
     data = [np.empty((n_total,) + arr.shape[1:], dtype=arr.dtype) for arr in parts[0][2]]
-    faces = np.empty((sum(p[3].shape[0] for p in parts), 3), dtype=itype)
-    row = private_at = shared_at = 0
-    for i in range(len(parts)):
-        _, sh, pdata, pfaces = parts[i]
-        parts[i] = None
-        k_sh = int(np.count_nonzero(sh))
-        k_pr = sh.shape[0] - k_sh
-        index = np.empty(sh.shape[0], dtype=itype)
-        part_index(sh, inverse, shared_at, private_at, n_private, index)
-        for out, arr in zip(data, pdata):
-            scatter_rows(out, index, np.ascontiguousarray(arr))
-        k = pfaces.shape[0]
-        remap_faces(index, pfaces, faces, row)
-        del sh, pdata, pfaces, index
-        _release_free_memory()  # the part's pages back to the system as the merged arrays fill
-        row += k
-        private_at += k_pr
-        shared_at += k_sh
+    faces = np.empty((int(starts[0][-1]), 3), dtype=itype)
+
+    def work(a, b):
+        for i in range(a, b):
+            _, sh, pdata, pfaces = parts[i]
+            parts[i] = None
+            index = np.empty(sh.shape[0], dtype=itype)
+            part_index(sh, inverse, starts[2][i], starts[1][i], n_private, index)
+            for out, arr in zip(data, pdata):
+                scatter_rows(out, index, np.ascontiguousarray(arr))
+            remap_faces(index, pfaces, faces, starts[0][i])
+            del sh, pdata, pfaces, index
+            _release_free_memory()  # the part's pages back to the system as the merged arrays fill
+
+    # one part per task: two threads write disjoint rows (a vertex two parts share gets the same data
+    # from both)
+    _chunks_on_threads(work, len(parts), 1, threads=threads)
     parts.clear()
     return tuple(data), faces

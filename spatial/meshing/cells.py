@@ -9,13 +9,14 @@ import numpy as np
 
 from ..files.progress import progress_bar
 from ..files.surface import triangle_surface
-from .arrays import (DEFAULT_BLOCK, REFINE_ACCEPT, REFINE_TOL, ZERO_NUDGE, ZERO_TIE, _release_free_memory, _settle_ties,
-                     _stable_order, empty_mesh, refine_scale)
+from .arrays import (DEFAULT_BLOCK, EVAL_CHUNK, REFINE_ACCEPT, REFINE_TOL, ZERO_NUDGE, ZERO_TIE, _chunks_on_threads,
+                     _release_free_memory, _settle_ties, _stable_order, empty_mesh, refine_scale)
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
 from .features import sharp_polydata_lent
 from .refine import _refine_on_edges
-from .cells_kernels import min_max, min_max_rows, order_by_key, take_entries, take_nudged, take_rows, ties, vertex_stage
-from .kernels import place_vertices
+from .cells_kernels import (min_max, min_max_rows, order_by_key, stage_counts, stage_fill, take_entries, take_nudged,
+                            take_rows, ties)
+from .kernels import place_rows
 from .slab import _SlabJob, run_slabs
 
 __all__ = ["mesh_cells"]
@@ -228,7 +229,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     finally:
         bar.close()
     del pieces
-    data, faces = merge_blocks(parts)
+    data, faces = merge_blocks(parts, threads=slab_threads)
     del parts
     _release_free_memory()
     if faces.shape[0] == 0:
@@ -249,8 +250,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     # REFINE_FULL_N voxels across the solid (`refine_scale`): a fixed fraction of h left those vertices
     # a first-order distance off.  Elsewhere the free last step already leaves an O(h^2) error.
     scale = refine_scale(solid, h) if refine else 1.0
-    t, inner, tied, rows, finite = vertex_stage(f0, f1, axis, INTERIOR, bool(refine), certify, floor, least,
-                                                scale < 1.0)
+    t, inner, tied, rows, finite = _vertex_stage(f0, f1, axis, (INTERIOR, bool(refine), certify, floor, least,
+                                                                scale < 1.0), slab_threads)
     if not finite:  # never for ends of opposite signs; a guard against a field's NaN
         t = np.nan_to_num(t, nan=0.5, posinf=1.0, neginf=0.0)
         np.clip(t, 0.0, 1.0, out=t)
@@ -267,7 +268,9 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     _release_free_memory()
     if edge_ids:
         ids = ((nodes[:, 0].astype(np.int64) * stride + nodes[:, 1]) * stride + nodes[:, 2]) * 3 + axis
-    p0 = place_vertices(nodes, axis, t, h, origin)
+    p0 = np.empty((nodes.shape[0], 3))
+    _chunks_on_threads(lambda a, b: place_rows(nodes, axis, t, h, origin, p0, a, b), nodes.shape[0], EVAL_CHUNK,
+                       threads=slab_threads)
     del nodes, t, axis
     if inner.size:
         _centre_inner(p0, faces, inner)
@@ -286,6 +289,33 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     out.field_data["blocks"] = np.array([n_blocks], dtype=np.int64)
     out.field_data["seconds"] = np.array([time.perf_counter() - t0])
     return out
+
+
+def _vertex_stage(f0, f1, axis, args, threads):
+    """`cells_kernels.vertex_stage` in chunks of vertices on `threads` threads: the chunks' counts, then
+    each chunk fills its own slots of the lists (the same arrays, bit for bit)."""
+    n = f0.shape[0]
+    spans = [(a, min(a + EVAL_CHUNK, n)) for a in range(0, n, EVAL_CHUNK)]
+    counts = np.zeros((len(spans) + 1, 3), np.int64)
+
+    def count(a, b):
+        for k in range(a, b):
+            counts[k + 1] = stage_counts(f0, f1, axis, *args, *spans[k])
+
+    _chunks_on_threads(count, len(spans), 1, threads=threads)
+    at = np.cumsum(counts, axis=0)
+    t = np.empty(n, np.float64)
+    inner = np.empty(int(at[-1, 0]), np.int64)
+    tied = np.empty(int(at[-1, 1]), np.int32)
+    rest = np.empty(int(at[-1, 2]), np.int32)
+    finite = np.ones(len(spans), np.bool_)
+
+    def fill(a, b):
+        for k in range(a, b):
+            finite[k] = stage_fill(f0, f1, axis, *args, *spans[k], t, inner, tied, rest, *at[k].tolist())
+
+    _chunks_on_threads(fill, len(spans), 1, threads=threads)
+    return t, inner, tied, rest, bool(finite.all())
 
 
 def _centre_inner(points, faces, inner):

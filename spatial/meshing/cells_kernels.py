@@ -175,3 +175,47 @@ def vertex_stage(f0, f1, axis, interior, refine, certify, floor, least, split):
         t[i] = v
         finite &= np.isfinite(v)
     return t, inner, tied_rows[:n_tied], rest_rows[:n_rest], finite
+
+
+@numba.njit(cache=True, nogil=True)
+def stage_counts(f0, f1, axis, interior, refine, certify, floor, least, split, a, b):
+    """`vertex_stage`'s counts over the vertices ``a .. b-1``: ``(inside a cube, tied, rest)``."""
+    n_inner = 0
+    n_tied = 0
+    n_rest = 0
+    for i in range(a, b):
+        if axis[i] == interior:
+            n_inner += 1
+        else:
+            free, tied = _free_and_tied(f0, f1, i, refine, certify, floor, least, split)
+            n_tied += tied
+            n_rest += free & (not tied)
+    return n_inner, n_tied, n_rest
+
+
+@numba.njit(cache=True, nogil=True)
+def stage_fill(f0, f1, axis, interior, refine, certify, floor, least, split, a, b, t, inner, tied_rows, rest_rows,
+               at_inner, at_tied, at_rest):
+    """`vertex_stage` over the vertices ``a .. b-1``, written into `t` and into the lists from the
+    given slots (`stage_counts` of the vertices before `a`: several ranges fill the lists at once,
+    so nothing is written past a range's own slots); returns whether every ``t`` is finite."""
+    finite = True
+    for i in range(a, b):
+        if axis[i] == interior:
+            f1[i] = -f0[i]
+            axis[i] = 0
+            inner[at_inner] = i
+            at_inner += 1
+        else:
+            free, tied = _free_and_tied(f0, f1, i, refine, certify, floor, least, split)
+            if tied:
+                tied_rows[at_tied] = i
+                at_tied += 1
+            elif free:
+                rest_rows[at_rest] = i
+                at_rest += 1
+        v0 = np.float64(f0[i])
+        v = v0 / (v0 - np.float64(f1[i]))
+        t[i] = v
+        finite &= np.isfinite(v)
+    return finite

@@ -333,6 +333,15 @@ def place_vertices(nodes, axis, t, h, origin):
     return p
 
 
+@numba.njit(cache=True, nogil=True)
+def place_rows(nodes, axis, t, h, origin, p, a, b):
+    """`place_vertices` of the vertices ``a .. b-1``, into the rows of `p`."""
+    for i in range(a, b):
+        for k in range(3):
+            p[i, k] = nodes[i, k] * h + origin[k]
+        p[i, axis[i]] += t[i] * h
+
+
 @numba.njit(cache=True, nogil=True, inline="always")
 def _block_node(q, n1):
     """Block and node ``(b, x, y, z)`` of the flat position `q` in the blocks' ``(B+1)^3`` arrays."""
@@ -377,23 +386,45 @@ def block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, vol, mask, with_val
     ``vol`` holds ``values[b, xs:xs+nx+1, ys:ys+ny+1, zs:zs+nz+1]`` (left alone unless
     `with_values`); ``mask[i+1, j+1, k+1]`` is the cell (of `c` voxels) holding voxel ``(xs+i,
     ys+j, zs+k)``, the lower planes False (scikit-image's convention for the voxel with lower node
-    ``(i, j, k)``).
+    ``(i, j, k)``).  A mask row (or plane) whose voxels lie in the same cells as the previous
+    one's is a copy of it: of every `c` rows one is read from the cells.
     """
     my = ny + 1
     mz = nz + 1
-    for i in range(nx + 1):
-        for j in range(my):
-            row = (i * my + j) * mz
-            if with_values:
-                src = values[b, xs + i, ys + j]
+    plane = my * mz
+    if with_values:
+        n1 = values.shape[3]
+        src = values.reshape(-1)   # flat offsets: no view made per row
+        for i in range(nx + 1):
+            for j in range(my):
+                row = (i * my + j) * mz
+                at = ((b * values.shape[1] + xs + i) * values.shape[2] + ys + j) * n1 + zs
                 for k in range(mz):
-                    vol[row + k] = src[zs + k]
+                    vol[row + k] = src[at + k]
+    for k in range(plane):
+        mask[k] = False
+    for i in range(1, nx + 1):
+        base = i * plane
+        ci = (xs + i - 1) // c
+        if i > 1 and (xs + i - 2) // c == ci:
+            for k in range(plane):
+                mask[base + k] = mask[base - plane + k]
+            continue
+        for k in range(mz):
+            mask[base + k] = False
+        for j in range(1, my):
+            row = base + j * mz
+            cj = (ys + j - 1) // c
+            if j > 1 and (ys + j - 2) // c == cj:
+                for k in range(mz):
+                    mask[row + k] = mask[row - mz + k]
+                continue
+            held = cells[b, ci, cj]
             mask[row] = False
-            if i == 0 or j == 0:
+            if c == 2:
                 for k in range(1, mz):
-                    mask[row + k] = False
+                    mask[row + k] = held[(zs + k - 1) >> 1]
             else:
-                held = cells[b, (xs + i - 1) // c, (ys + j - 1) // c]
                 for k in range(1, mz):
                     mask[row + k] = held[(zs + k - 1) // c]
 
@@ -434,6 +465,27 @@ def needed_nodes(code, B, flat, s_n, maybe, upper):
                         upper[m] = x == B
                         m += 1
                     q += 1
+
+
+@numba.njit(cache=True, nogil=True)
+def index_positions(flat, where):
+    """``where[flat[i]] = i``: each needed node's row at its flat position (the other entries of
+    `where` are left as they were: read them only through `put_sampled`'s check)."""
+    for i in range(flat.shape[0]):
+        where[flat[i]] = i
+
+
+@numba.njit(cache=True, nogil=True)
+def put_sampled(flat, where, b_, x_, y_, z_, v, n1, v_n):
+    """``v_n[i] = v[j]`` for every sampled node ``j`` (block `b_`, position ``x_, y_, z_``) that is
+    needed node ``i``: its flat position found through `where` (`index_positions`) and checked
+    against `flat` (so stale entries of `where` are never taken), in the order of the samples."""
+    n = flat.shape[0]
+    for j in range(v.shape[0]):
+        q = ((np.int64(b_[j]) * n1 + x_[j]) * n1 + y_[j]) * n1 + z_[j]
+        i = where[q]
+        if 0 <= i < n and flat[i] == q:
+            v_n[i] = v[j]
 
 
 @numba.njit(cache=True, nogil=True)

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["break_ties", "TIE_PUSH"]
+__all__ = ["break_ties", "break_ties_marked", "TIE_PUSH"]
 
 #: Relative deepening of an inside corner of a tie (float32 keeps it: 2**-20 is about 8 ulp).
 TIE_PUSH = 2.0 ** -20
@@ -139,9 +139,27 @@ def break_ties(values):
     """
     if values.ndim != 3 or min(values.shape) < 2:
         return values
-    marks = np.zeros(values.shape, dtype=np.bool_)
+    return break_ties_marked(values, np.zeros(values.shape, dtype=np.bool_))
+
+
+def break_ties_marked(values, marks):
+    """`break_ties` with a scratch array of marks lent by the caller (no array made per block).
+
+    Parameters
+    ----------
+    values : (a, b, c) float32
+        A block of samples, negative inside, at least 2 along every axis.
+    marks : (a, b, c) bool
+        All False on entry; all False again on return.
+
+    Returns
+    -------
+    ndarray
+        `values` itself when it holds no tie, else a copy with the tie corners deepened.
+    """
     if _kernel()(values, marks) == 0:
-        return values
+        return values   # nothing marked: the marks are still clear
     out = values.copy()
     out[marks] *= values.dtype.type(1.0 + TIE_PUSH)
+    marks[...] = False
     return out

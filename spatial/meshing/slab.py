@@ -8,10 +8,10 @@ import threading
 
 import numpy as np
 
-from .saddles import break_ties
+from .saddles import break_ties_marked
 from .arrays import _evaluate, _nudge, _release_free_memory, _settle_ties
-from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, infer_around, needed_nodes,
-                      node_ids, node_points, paint_parents, ring_to_nodes, take_block)
+from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, index_positions, infer_around,
+                      needed_nodes, node_ids, node_points, paint_parents, put_sampled, ring_to_nodes, take_block)
 
 __all__ = []
 
@@ -180,13 +180,15 @@ class _SlabJob:
             return node_ids(flat, rows, B, int(x0), y_base, z_base, int(stride))
 
         v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
-        for b_, x_, y_, z_, v in sampled:
-            # nodes already sampled (never on a block face) hold their values
-            at = ((b_.astype(np.int64) * (B + 1) + x_) * (B + 1) + y_) * (B + 1) + z_
-            # in flat's own dtype (positions fit it): a wider query would cast all of flat per call
-            pos = np.minimum(np.searchsorted(flat, at.astype(flat.dtype)), flat.shape[0] - 1)
-            hit = flat[pos] == at
-            v_n[pos[hit]] = v[hit]
+        if sampled:
+            # nodes already sampled (never on a block face) hold their values: found through the
+            # row of every needed node at its position, written into the slab's samples array (not
+            # filled before `fill_values` below; 32-bit rows fit it)
+            where = _take(self.scratch, "values", (code.size,), np.float32).view(np.int32)
+            index_positions(flat, where)
+            for b_, x_, y_, z_, v in sampled:
+                put_sampled(flat, where, b_, x_, y_, z_, v, B + 1, v_n)
+            del where
         del sampled
         m_idx = np.flatnonzero(maybe)
         uniq, ufirst, back = np.unique(ids(m_idx), return_index=True, return_inverse=True)
@@ -276,27 +278,31 @@ class _SlabJob:
         lows, highs = block_boxes(*self.cl, self.nb, self.P)
         scratch = self.scratch if self.scratch is not None else _Scratch()
         buf = scratch.buffers(self.capacity_hint)
-        # one block's box at a time, built in place (no slab of voxels, no per-block arrays)
-        flat_vol = _take(scratch, "vol", ((B + 1) ** 3,), np.float32)
+        # one block's mask at a time, built in place (no slab of voxels, no per-block arrays)
+        flat_vol = np.empty(0, np.float32)   # (`block_input` copies no samples here)
         flat_mask = _take(scratch, "mask", ((B + 1) ** 3,), np.bool_)
-        gy = self.bys * B
-        gz = self.bzs * B
+        # the marks of `break_ties_marked`: cleared once, left clear by every block
+        flat_marks = scratch.marks((B + 1) ** 3)
+        # every block's box corner and size (voxels) and global corner as Python ints, in one go
+        boxes = np.concatenate([lows * c, (highs - lows) * c, (self.bys * B)[:, None], (self.bzs * B)[:, None]],
+                               axis=1).tolist()
+        stride = int(stride)
         for b in range(self.nb):
-            xs, ys, zs = (lows[b] * c).tolist()
-            nx, ny, nz = ((highs[b] - lows[b]) * c).tolist()
+            xs, ys, zs, nx, ny, nz, gy, gz = boxes[b]
             shape = (nx + 1, ny + 1, nz + 1)
             size = shape[0] * shape[1] * shape[2]
-            # a box spanning the block in y and z is a contiguous run of the slab's samples: no copy
-            whole = ys == 0 and zs == 0 and ny == B and nz == B
-            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask, not whole)
-            vol = values[b, xs:xs + nx + 1] if whole else flat_vol[:size].reshape(shape)
-            mask = flat_mask[:size].reshape(shape)
-            verts, tri = _marching_cubes_raw(break_ties(vol), mask)   # contacts fuse (saddles.py)
+            # the box as a view of the slab's samples: scikit-image's kernel reads strided boxes as it
+            # reads contiguous ones (the same output), so no box is copied
+            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask, False)
+            vol = values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1]
+            # contacts fuse (saddles.py)
+            vol = break_ties_marked(vol, flat_marks[:size].reshape(shape))
+            verts, tri = _marching_cubes_raw(vol, flat_mask[:size].reshape(shape))
             if verts.shape[0] == 0 or tri.shape[0] == 0:
                 continue
             buf.reserve(verts.shape[0], tri.shape[0] // 3)
             buf.vat, buf.fat, buf.eat = take_block(
-                verts, tri, values, b, xs, ys, zs, B, x0, int(gy[b]), int(gz[b]), int(stride), buf.node, buf.axis,
+                verts, tri, values, b, xs, ys, zs, B, x0, gy, gz, stride, buf.node, buf.axis,
                 buf.f0, buf.f1, buf.shared, buf.edge, buf.faces, buf.vat, buf.fat, buf.eat)
         if buf.vat == 0:
             return None
@@ -305,13 +311,14 @@ class _SlabJob:
 
 class _Scratch:
     """Slab-sized arrays lent from one slab to the next of a `run_slabs` call: the dense node codes
-    and samples, one block's box and mask, the vertex buffers.  Every use writes all it reads
+    and samples, one block's mask, the vertex buffers.  Every use writes all it reads
     (`ring_to_nodes`, `fill_values`, `block_input`), so nothing of an earlier slab shows through;
     reuse saves the page faults of fresh arrays (some 300 MB of them per N=512 mesh)."""
 
     def __init__(self):
         self.arrays = {}
         self._buffers = None
+        self._marks = None
 
     def take(self, name, shape, dtype):
         n = int(np.prod(shape))
@@ -323,6 +330,12 @@ class _Scratch:
             arr = np.empty(n + n // 4, dtype=dtype)
             self.arrays[name] = arr
         return arr[:n].reshape(shape)
+
+    def marks(self, n):
+        """``n`` False booleans, kept for the next slab (their users leave them False)."""
+        if self._marks is None or self._marks.shape[0] < n:
+            self._marks = np.zeros(n, dtype=np.bool_)
+        return self._marks[:n]
 
     def buffers(self, capacity):
         if self._buffers is None or self._buffers.cap > 2 * capacity + 4096:

@@ -4,6 +4,7 @@ depend on the order its cells and rings come in."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings, strategies as st
 from parts import benchmark_part
 
@@ -141,3 +142,27 @@ def _canonical(points, faces):
     first = np.argmin(f, axis=1)
     f = np.stack([f[np.arange(f.shape[0]), (first + k) % 3] for k in range(3)], axis=1)
     return points[order], f[np.lexsort(f.T[::-1])]
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_vertex_stage_in_chunks_is_the_one_pass(monkeypatch, threads):
+    import spatial.meshing.cells as cells_module
+
+    rng = np.random.default_rng(3)
+    n = 5000
+    f0 = rng.standard_normal(n).astype(np.float32) * np.float32(0.01)
+    f1 = -np.sign(f0) * rng.random(n).astype(np.float32) * np.float32(0.01)
+    f0[::7] = np.float32(1e-6)   # ends beside a tie
+    axis = rng.integers(0, 4, size=n).astype(np.uint8)
+    args = (INTERIOR, True, True, np.float32(2e-6), np.float32(0.01), True)
+    want = vertex_stage(f0.copy(), f1.copy(), axis.copy(), *args)
+    monkeypatch.setattr(cells_module, "EVAL_CHUNK", 777)   # several chunks, the last one short
+    g1, ga = f1.copy(), axis.copy()
+    got = cells_module._vertex_stage(f0, g1, ga, args, threads)
+    assert got[4] is True and want[4]
+    for a, b in zip(want[:4], got[:4]):
+        assert a.dtype == b.dtype and np.array_equal(a, b)
+    assert got[1].size > 0 and got[2].size > 0 and got[3].size > 0
+    f1_want, axis_want = f1.copy(), axis.copy()
+    vertex_stage(f0, f1_want, axis_want, *args)
+    assert np.array_equal(g1, f1_want) and np.array_equal(ga, axis_want)

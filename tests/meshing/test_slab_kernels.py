@@ -150,3 +150,71 @@ def test_paint_parents_is_the_coarse_numpy_painting(seed, s0, s1, s2):
     expect |= coarse[shift[0]:shift[0] + s0, shift[1]:shift[1] + s1, shift[2]:shift[2] + s2]
     paint_parents(state, idx, sgn, int(origin[0]), int(origin[1]), int(origin[2]), np.uint8(4), np.uint8(2))
     assert np.array_equal(state, expect)
+
+
+def _random_parts(rng, n_parts):
+    """Parts as `merge_blocks` takes them: shared vertices keyed by ids some parts have in common."""
+    parts = []
+    for _ in range(n_parts):
+        nv = int(rng.integers(3, 40))
+        shared = rng.random(nv) < 0.4
+        edge = rng.integers(0, 30, size=int(shared.sum())).astype(np.int64)
+        # a vertex's data is a function of its id when shared (the same in every part holding it)
+        node = rng.integers(0, 100, size=(nv, 3)).astype(np.int32)
+        node[shared] = np.stack([edge, edge + 1, edge + 2], axis=1).astype(np.int32)
+        f0 = rng.standard_normal(nv).astype(np.float32)
+        f0[shared] = edge.astype(np.float32)
+        faces = rng.integers(0, nv, size=(int(rng.integers(1, 30)), 3)).astype(np.int32)
+        parts.append((edge, shared, (node, f0), faces))
+    return parts
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_merge_blocks_on_two_threads_is_the_one_thread_merge(seed):
+    from spatial.meshing.blocks import merge_blocks
+
+    one = merge_blocks(_random_parts(np.random.default_rng(seed), 9), threads=1)
+    two = merge_blocks(_random_parts(np.random.default_rng(seed), 9), threads=2)
+    assert np.array_equal(one[1], two[1])
+    for a, b in zip(one[0], two[0]):
+        assert np.array_equal(a, b)
+    # the shared ids are merged: 30 possible ids, so fewer vertices than the parts hold
+    parts = _random_parts(np.random.default_rng(seed), 9)
+    held = sum(p[1].shape[0] for p in parts)
+    ids = np.unique(np.concatenate([p[0] for p in parts]))
+    private = sum(int((~p[1]).sum()) for p in parts)
+    assert one[0][0].shape[0] == private + ids.size < held
+    # the shared vertices follow the private ones, in the order of their ids
+    assert np.array_equal(one[0][1][private:], ids.astype(np.float32))
+
+
+def test_merge_blocks_refuses_a_bad_thread_count():
+    from spatial.meshing.blocks import merge_blocks
+
+    with pytest.raises(ValueError, match="threads"):
+        merge_blocks([], threads=0)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_put_sampled_is_the_sorted_search_and_ignores_stale_rows(seed):
+    from spatial.meshing.kernels import index_positions, put_sampled
+
+    rng = np.random.default_rng(seed)
+    n1, nb = 5, 3
+    size = nb * n1 ** 3
+    flat = np.sort(rng.choice(size, size=60, replace=False)).astype(np.int32)
+    # stale rows everywhere, some of them in range: only a needed node's own row may be taken
+    where = rng.integers(-5, 70, size=size).astype(np.int32)
+    index_positions(flat, where)
+    b_, x_, y_, z_ = (rng.integers(0, m, size=200) for m in (nb, n1, n1, n1))
+    v = rng.standard_normal(200).astype(np.float32)
+    got = np.full(flat.shape[0], np.nan, np.float32)
+    put_sampled(flat, where, b_, x_, y_, z_, v, n1, got)
+    want = np.full(flat.shape[0], np.nan, np.float32)
+    at = ((b_ * n1 + x_) * n1 + y_) * n1 + z_
+    pos = np.minimum(np.searchsorted(flat, at), flat.shape[0] - 1)
+    hit = flat[pos] == at
+    for p, val in zip(pos[hit], v[hit]):   # in the samples' order: the last of a repeated node wins
+        want[p] = val
+    assert np.array_equal(got, want, equal_nan=True)
+    assert 0 < np.count_nonzero(~np.isnan(got)) < flat.shape[0]
