@@ -32,3 +32,22 @@ def require_openvdb():
 def requires_openvdb():
     """Fixture form of `require_openvdb`."""
     return require_openvdb()
+
+
+@pytest.fixture
+def fresh_cache_run(tmp_path):
+    """Run a job in a fresh interpreter with its own numba cache folder, with cache debugging on.
+
+    Returns a function ``run(job) -> str`` (the job's stdout and stderr); every call shares the
+    folder, so a second call shows what the first one saved being loaded.
+    """
+    import subprocess
+    import sys
+
+    def run(job):
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DEBUG_CACHE="1")
+        proc = subprocess.run([sys.executable, "-c", job], env=env, capture_output=True, text=True, timeout=600)
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        return proc.stdout + proc.stderr
+
+    return run

@@ -4,9 +4,6 @@ The kernel measures outlines of many edges (a gear's), so every process meshing 
 used to compile it again when it was a closure built on first use.
 """
 
-import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -19,17 +16,10 @@ JOB = ("import numpy as np; from implicit.profiles import polygon_distance; "
        "print(float(polygon_distance(np.random.default_rng(0).random((500, 2)) * 3 - 1.5, v).sum()))")
 
 
-def _run(cache_dir):
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), NUMBA_DEBUG_CACHE="1")
-    proc = subprocess.run([sys.executable, "-c", JOB], env=env, capture_output=True, text=True, timeout=600)
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    return proc.stdout + proc.stderr
-
-
-def test_second_process_loads_the_polygon_kernel(tmp_path):
-    first = _run(tmp_path)
+def test_second_process_loads_the_polygon_kernel(fresh_cache_run):
+    first = fresh_cache_run(JOB)
     assert "polygon_signed_distance" in first and "data saved" in first
-    second = _run(tmp_path)
+    second = fresh_cache_run(JOB)
     saved = [line for line in second.splitlines() if "saved" in line]
     assert saved == [], "a second process compiled the polygon kernel again:\n" + "\n".join(saved)
     assert "data loaded" in second
