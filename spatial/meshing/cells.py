@@ -292,8 +292,11 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
 
 
 def _vertex_stage(f0, f1, axis, args, threads):
-    """`cells_kernels.vertex_stage` in chunks of vertices on `threads` threads: the chunks' counts, then
-    each chunk fills its own slots of the lists (the same arrays, bit for bit)."""
+    """The vertex stage (`cells_kernels.stage_counts`) in chunks of vertices on `threads` threads: the
+    chunks' counts, then each chunk fills its own slots of the lists (`stage_fill`).
+
+    Returns ``(t (v,) float64, inner (i,) int64, tied (k,) int32, rest (j,) int32, finite)``: `tied`
+    is empty unless `split`; `finite` is False when some ``t`` is not finite (a field's NaN)."""
     n = f0.shape[0]
     spans = [(a, min(a + EVAL_CHUNK, n)) for a in range(0, n, EVAL_CHUNK)]
     counts = np.zeros((len(spans) + 1, 3), np.int64)

@@ -125,61 +125,16 @@ def _free_and_tied(f0, f1, i, refine, certify, floor, least, split):
 
 
 @numba.njit(cache=True, nogil=True)
-def vertex_stage(f0, f1, axis, interior, refine, certify, floor, least, split):
-    """Edge fraction of every vertex and the vertices to refine, in place of the numpy of `cells.mesh_cells`.
-
-    A vertex inside a cube (axis `interior`) gets ``f1 = -f0`` and axis 0, in place; ``t = f0 /
-    (f0 - f1)`` in double precision.  With `refine`, the vertices neither inside a cube nor
-    certified (`certify`: the Lipschitz test of `refine._certified` with its `floor` and its
-    ``L h - REFINE_ACCEPT h`` bound `least`, both float32) are listed in increasing order; with
-    `split`, those with an end within `floor` of the level (beside a tie) apart from the others.
-
-    Returns ``(t (v,) float64, inner (i,) int64, tied (k,) int32, rest (j,) int32, finite)``: `tied`
-    is empty unless `split`; `finite` is False when some ``t`` is not finite (a field's NaN).
-    """
-    n = f0.shape[0]
-    n_inner = 0
-    n_tied = 0
-    n_rest = 0
-    # counts first (a vertex inside a cube is neither tied nor refined, whatever its values)
-    for i in range(n):
-        if axis[i] == interior:
-            n_inner += 1
-        else:
-            free, tied = _free_and_tied(f0, f1, i, refine, certify, floor, least, split)
-            n_tied += tied
-            n_rest += free & (not tied)
-    t = np.empty(n, np.float64)
-    inner = np.empty(n_inner, np.int64)
-    # one spare slot each: every vertex is written at the lists' ends, kept only when it belongs there
-    tied_rows = np.empty(n_tied + 1, np.int32)
-    rest_rows = np.empty(n_rest + 1, np.int32)
-    n_inner = 0
-    n_tied = 0
-    n_rest = 0
-    finite = True
-    for i in range(n):
-        if axis[i] == interior:
-            f1[i] = -f0[i]
-            axis[i] = 0
-            inner[n_inner] = i
-            n_inner += 1
-        else:
-            free, tied = _free_and_tied(f0, f1, i, refine, certify, floor, least, split)
-            tied_rows[n_tied] = i
-            n_tied += tied
-            rest_rows[n_rest] = i
-            n_rest += free & (not tied)
-        a = np.float64(f0[i])
-        v = a / (a - np.float64(f1[i]))
-        t[i] = v
-        finite &= np.isfinite(v)
-    return t, inner, tied_rows[:n_tied], rest_rows[:n_rest], finite
-
-
-@numba.njit(cache=True, nogil=True)
 def stage_counts(f0, f1, axis, interior, refine, certify, floor, least, split, a, b):
-    """`vertex_stage`'s counts over the vertices ``a .. b-1``: ``(inside a cube, tied, rest)``."""
+    """The vertex stage's counts over the vertices ``a .. b-1``: ``(inside a cube, tied, rest)``.
+
+    The vertex stage (`cells._vertex_stage`, in chunks): a vertex inside a cube (axis `interior`)
+    gets ``f1 = -f0`` and axis 0, in place; ``t = f0 / (f0 - f1)`` in double precision.  With
+    `refine`, the vertices neither inside a cube nor certified (`certify`: the Lipschitz test of
+    `refine._certified` with its `floor` and its ``L h - REFINE_ACCEPT h`` bound `least`, both
+    float32) are listed in increasing order; with `split`, those with an end within `floor` of the
+    level (beside a tie) apart from the others.
+    """
     n_inner = 0
     n_tied = 0
     n_rest = 0
@@ -196,7 +151,7 @@ def stage_counts(f0, f1, axis, interior, refine, certify, floor, least, split, a
 @numba.njit(cache=True, nogil=True)
 def stage_fill(f0, f1, axis, interior, refine, certify, floor, least, split, a, b, t, inner, tied_rows, rest_rows,
                at_inner, at_tied, at_rest):
-    """`vertex_stage` over the vertices ``a .. b-1``, written into `t` and into the lists from the
+    """The vertex stage over the vertices ``a .. b-1``, written into `t` and into the lists from the
     given slots (`stage_counts` of the vertices before `a`: several ranges fill the lists at once,
     so nothing is written past a range's own slots); returns whether every ``t`` is finite."""
     finite = True

@@ -322,20 +322,8 @@ def block_boxes(inv, lx, ly, lz, nb, P):
 
 
 @numba.njit(cache=True, nogil=True)
-def place_vertices(nodes, axis, t, h, origin):
-    """Vertex positions ``origin + nodes * h`` moved ``t * h`` along their edge's axis."""
-    n = nodes.shape[0]
-    p = np.empty((n, 3))
-    for i in range(n):
-        for k in range(3):
-            p[i, k] = nodes[i, k] * h + origin[k]
-        p[i, axis[i]] += t[i] * h
-    return p
-
-
-@numba.njit(cache=True, nogil=True)
 def place_rows(nodes, axis, t, h, origin, p, a, b):
-    """`place_vertices` of the vertices ``a .. b-1``, into the rows of `p`."""
+    """Positions ``origin + nodes * h`` of the vertices ``a .. b-1`` moved ``t * h`` along their edge's axis, into the rows of `p`."""
     for i in range(a, b):
         for k in range(3):
             p[i, k] = nodes[i, k] * h + origin[k]

@@ -14,7 +14,7 @@ from spatial.meshing.blocks import INTERIOR
 from spatial.meshing.boundary import boundary_cells_2h
 from spatial.meshing.cells import mesh_cells
 from spatial.meshing.cells_kernels import (min_max, min_max_rows, order_by_key, take_entries, take_nudged, take_rows,
-                                           ties, vertex_stage)
+                                           ties)
 from spatial.meshing.refine import _certified
 
 
@@ -64,6 +64,8 @@ def test_take_nudged_is_the_nudge_in_single_precision():
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2 ** 32 - 1), st.booleans(), st.booleans(), st.sampled_from([1.0, 1.5, np.inf]))
 def test_vertex_stage_is_the_numpy_formulation(seed, refine, split, lip):
+    import spatial.meshing.cells as cells_module
+
     rng = np.random.default_rng(seed)
     n = 500
     h = 0.05
@@ -87,8 +89,10 @@ def test_vertex_stage_is_the_numpy_formulation(seed, refine, split, lip):
     tied = (np.abs(F0[rows]) <= floor) | (np.abs(F1[rows]) <= floor)
     certify = bool(np.isfinite(lip))
     least = np.float32(lip * h - REFINE_ACCEPT * h) if certify else np.float32(0.0)
-    got_t, got_inner, got_tied, got_rest, finite = vertex_stage(f0, f1, axis, INTERIOR, refine, certify, floor, least,
-                                                                split)
+    args = (INTERIOR, refine, certify, floor, least, split)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(cells_module, "EVAL_CHUNK", 77)   # several chunks on two threads, the last one short
+        got_t, got_inner, got_tied, got_rest, finite = cells_module._vertex_stage(f0, f1, axis, args, 2)
     assert finite
     assert np.array_equal(got_t.view(np.uint64), t.view(np.uint64))
     assert np.array_equal(got_inner, inner)
@@ -103,7 +107,7 @@ def test_vertex_stage_is_the_numpy_formulation(seed, refine, split, lip):
     assert got_rest.dtype == np.int32
     # a field's NaN is reported
     f0[3] = np.nan
-    assert not vertex_stage(f0, f1, axis, INTERIOR, refine, certify, floor, least, split)[4]
+    assert not cells_module._vertex_stage(f0, f1, axis, args, 1)[4]
 
 
 def test_mesh_does_not_depend_on_the_order_of_its_cells():
@@ -142,27 +146,3 @@ def _canonical(points, faces):
     first = np.argmin(f, axis=1)
     f = np.stack([f[np.arange(f.shape[0]), (first + k) % 3] for k in range(3)], axis=1)
     return points[order], f[np.lexsort(f.T[::-1])]
-
-
-@pytest.mark.parametrize("threads", [1, 2])
-def test_vertex_stage_in_chunks_is_the_one_pass(monkeypatch, threads):
-    import spatial.meshing.cells as cells_module
-
-    rng = np.random.default_rng(3)
-    n = 5000
-    f0 = rng.standard_normal(n).astype(np.float32) * np.float32(0.01)
-    f1 = -np.sign(f0) * rng.random(n).astype(np.float32) * np.float32(0.01)
-    f0[::7] = np.float32(1e-6)   # ends beside a tie
-    axis = rng.integers(0, 4, size=n).astype(np.uint8)
-    args = (INTERIOR, True, True, np.float32(2e-6), np.float32(0.01), True)
-    want = vertex_stage(f0.copy(), f1.copy(), axis.copy(), *args)
-    monkeypatch.setattr(cells_module, "EVAL_CHUNK", 777)   # several chunks, the last one short
-    g1, ga = f1.copy(), axis.copy()
-    got = cells_module._vertex_stage(f0, g1, ga, args, threads)
-    assert got[4] is True and want[4]
-    for a, b in zip(want[:4], got[:4]):
-        assert a.dtype == b.dtype and np.array_equal(a, b)
-    assert got[1].size > 0 and got[2].size > 0 and got[3].size > 0
-    f1_want, axis_want = f1.copy(), axis.copy()
-    vertex_stage(f0, f1_want, axis_want, *args)
-    assert np.array_equal(g1, f1_want) and np.array_equal(ga, axis_want)
