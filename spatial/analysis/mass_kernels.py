@@ -33,6 +33,16 @@ def _flush(out, comp, blk):  # pragma: no cover - compiled
         blk[q] = 0.0
 
 
+
+@numba.njit(cache=True, fastmath=False, inline="always")
+def _close(out, comp, blk):  # pragma: no cover - compiled
+    """The last block added, the compensation folded in, and the symmetric products copied."""
+    _flush(out, comp, blk)
+    out += comp
+    out[7] = out[5]
+    out[10] = out[6]
+    out[11] = out[9]
+
 @numba.njit(cache=True, fastmath=False)
 def level(pts, tri, c0):  # pragma: no cover - compiled
     m = tri.shape[0]
@@ -78,11 +88,7 @@ def level(pts, tri, c0):  # pragma: no cover - compiled
         mids[3 * k + 2, 2] = 0.5 * (cz + az) + c0[2]
         if k % BLOCK == BLOCK - 1:
             _flush(out, comp, blk)
-    _flush(out, comp, blk)
-    out += comp
-    out[7] = out[5]
-    out[10] = out[6]
-    out[11] = out[9]
+    _close(out, comp, blk)
     return out, mids, weights
 
 
@@ -106,9 +112,5 @@ def shell(mids, w, c0):  # pragma: no cover - compiled
         blk[12] += q * z * z
         if k % BLOCK == BLOCK - 1:
             _flush(out, comp, blk)
-    _flush(out, comp, blk)
-    out += comp
-    out[7] = out[5]
-    out[10] = out[6]
-    out[11] = out[9]
+    _close(out, comp, blk)
     return out
