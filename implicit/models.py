@@ -3,7 +3,7 @@
 A model file is either
 
 * a ``.py`` file that defines ``solid`` (a `Solid`) or a function ``model()``
-  returning one, or
+  returning one (``model`` bound to a `Solid` itself is taken as it is), or
 * a ``.json`` CSG tree (see `implicit.serialize`).
 
 An assembly file is a ``.py`` file defining ``parts`` (a dict of named,
@@ -179,6 +179,8 @@ def _model_from(ns: dict, name: str) -> Solid:
     if "solid" in ns:
         return _as_solid(ns["solid"], name, "solid")
     if "model" in ns:
+        if isinstance(ns["model"], Solid):  # ``model = box(...)``: a Solid is callable too, but as a field
+            return ns["model"]
         return _as_solid(_call(ns["model"], name, "model"), name, "model() result")
     raise ValueError(f"{name}: defines neither 'solid' (a Solid) nor 'model()' returning one")
 

@@ -133,6 +133,17 @@ def test_load_model_and_assembly():
         load_model(_write_assembly_json(json_assembly))
 
 
+def test_model_bound_to_a_solid_is_taken_as_it_is(tmp_path, capsys):
+    # A Solid is callable (it evaluates points), so ``model = box(...)`` must not be called as ``model()``.
+    path = tmp_path / "beam.py"
+    path.write_text("from implicit import box\nmodel = box((100, 10, 10), center=(50, 0, 0))\n")
+    part = load_model(path)
+    assert part.count_primitives() == 1
+    np.testing.assert_allclose(part.bounds, [[0, -5, -5], [100, 5, 5]])
+    status, out, err = run(capsys, "info", path)
+    assert status == 0 and err == "" and "box" in out
+
+
 def _write_assembly_json(src):
     import tempfile
     folder = Path(tempfile.mkdtemp())
