@@ -111,6 +111,11 @@ def _patch(caching) -> None:
     if lazy is not None:
         lazy()
     _patch_rebuild_env()
+    from numba.core.runtime import nrtdynmod
+
+    from .numba_runtime import install as cached_runtime
+
+    cached_runtime(nrtdynmod)  # the runtime's own functions loaded from disk, not compiled (20 ms)
     _STATE["patched"] = True
 
 

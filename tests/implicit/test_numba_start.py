@@ -4,7 +4,8 @@ A throw-away module of cached kernels (one allocating an array, one parallel) is
 in a first fresh interpreter, then loaded in a second: the second gives the same values,
 never imports numba's linalg registry (the refresh's mark), and still compiles a new
 kernel that needs it, and one that calls a loaded kernel (linking the bitcode the load left unparsed);
-the environments of numba's own modules that the loaded kernels inlined are rebuilt without importing them.
+the environments of numba's own modules that the loaded kernels inlined are rebuilt without importing them,
+and numba's runtime functions are compiled by the first process only.
 The names a cached object defines, read from its ELF symbol table, are those numba reads from
 its bitcode.
 """
@@ -45,6 +46,9 @@ JOB = textwrap.dedent('''
     import implicit  # installs the start-up
     import numpy as np
     import numba
+    import numba.core.runtime.nrtdynmod as nrtdynmod
+    made, create = [], nrtdynmod.create_nrt_module
+    nrtdynmod.create_nrt_module = lambda ctx: made.append(1) or create(ctx)   # the runtime compiled from IR
     import kernels
     import numba.core.caching as caching
     from numba.core import event
@@ -75,7 +79,7 @@ JOB = textwrap.dedent('''
         out[:] = v
         return out.sum()
     print(json.dumps(dict(a=a, b=b, refreshed=refreshed, norm=norm(x), last=last(x), lock_events=lock_events,
-                          arrayobj=arrayobj, fresh=fresh(x))))
+                          arrayobj=arrayobj, fresh=fresh(x), runtime_compiled=len(made))))
 ''')
 
 
@@ -96,6 +100,13 @@ def test_cached_kernels_load_without_the_refresh_and_compile_after(tmp_path):
     assert not second["refreshed"]
     assert not second["arrayobj"]  # the loads imported none of numba's implementation modules
     assert first["fresh"] == second["fresh"] == 15.0
+    # the runtime's functions: compiled and written by the first process, loaded by the second
+    assert first["runtime_compiled"] == 1 and second["runtime_compiled"] == 0
+    (saved,) = (tmp_path / "cache").glob("numba_runtime-*.nbo")
+    saved.write_bytes(b"damaged")
+    third = _run(tmp_path)  # a damaged file is compiled again, and rewritten
+    assert third["runtime_compiled"] == 1 and third["a"] == second["a"] and third["fresh"] == 15.0
+    assert _run(tmp_path)["runtime_compiled"] == 0
     assert second["norm"] == pytest.approx(55.0 ** 0.5, rel=1e-15)
     assert first["last"] == second["last"] == 55.0
     assert len(second["lock_events"]) == 2 and sum(second["lock_events"]) == 0  # loads broadcast no lock events
@@ -103,6 +114,7 @@ def test_cached_kernels_load_without_the_refresh_and_compile_after(tmp_path):
     full = _run(tmp_path, IMPLICAD_NUMBA_FULL_START="1")
     assert full["refreshed"] and full["arrayobj"] and full["a"] == second["a"] and full["b"] == second["b"]
     assert full["last"] == 55.0 and len(full["lock_events"]) == 2 and min(full["lock_events"]) > 0
+    assert full["runtime_compiled"] == 1
 
 
 def test_install_is_idempotent_and_marks_the_loader():
