@@ -60,7 +60,7 @@ class _PausingFinder:
     def find_spec(self, name, path=None, target=None):
         if _STATE["depth"] or name not in PACKAGES:
             return None
-        for finder in sys.meta_path:
+        for finder in list(sys.meta_path):  # a copy: a finder may remove itself when asked
             if finder is self or not hasattr(finder, "find_spec"):
                 continue
             spec = finder.find_spec(name, path, target)
