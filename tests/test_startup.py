@@ -35,7 +35,8 @@ def test_import_spatial_loads_no_room_and_no_heavy_library():
     loaded = _fresh("import spatial; " + _LOADED)
     assert set(loaded) <= {"spatial", "spatial.files", "spatial.files.atomic", "spatial.files.lazy",
                            "spatial.files.meshes", "spatial.files.progress", "spatial.files.shutdown",
-                           "spatial.files.frozen_imports", "spatial.files.deferred_imports"}, loaded
+                           "spatial.files.frozen_imports", "spatial.files.deferred_imports",
+                           "spatial.files.vtk_listing"}, loaded
 
 
 def test_import_implicit_loads_no_scipy_numba_or_spatial():
