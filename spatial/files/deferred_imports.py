@@ -7,13 +7,16 @@ part without doing anything for it:
   calls ``pooch.retrieve`` for an ``http://`` path only), and pooch imports
   tqdm, asyncio and platformdirs: 0.05 s;
 - numba's configuration imports ``yaml`` to read a ``.numba_config.yaml``
-  when the working folder holds one: 0.01 s.
+  when the working folder holds one: 0.01 s;
+- numba's extension loader imports ``importlib.metadata`` to read the
+  installed distributions' entry points, which `implicit.evaluate.numba_start`
+  skips when no distribution declares numba extensions: 0.01 s.
 
 `install` puts a finder at the head of ``sys.meta_path`` that gives these
 modules, when first imported, a lazy loader (`importlib.util.LazyLoader`):
 the import binds the module at once and runs it at the first attribute read
-(``pooch.retrieve``, ``yaml.safe_load``), so a process that never reads one
-never runs it.  ``IMPLICAD_EAGER_IMPORTS=1`` imports them as usual.
+(``pooch.retrieve``, ``yaml.safe_load``, ``metadata.version``), so a process
+that never reads one never runs it.  ``IMPLICAD_EAGER_IMPORTS=1`` imports them as usual.
 
 Examples
 --------
@@ -29,8 +32,9 @@ __all__ = ["install", "installed", "DEFERRED", "EAGER"]
 
 #: Environment variable: "1" imports every module as usual.
 EAGER = "IMPLICAD_EAGER_IMPORTS"
-#: Modules run on first use: imported at import time by pyvista (pooch) and numba (yaml), used later if ever.
-DEFERRED = frozenset({"pooch", "yaml"})
+#: Modules run on first use: imported at import time by pyvista (pooch) and numba (yaml, importlib.metadata),
+#: used later if ever.
+DEFERRED = frozenset({"pooch", "yaml", "importlib.metadata"})
 
 
 def installed() -> bool:
