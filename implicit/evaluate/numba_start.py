@@ -145,6 +145,10 @@ def _patch_rebuild_env() -> None:
 
     _rebuild_env.__doc__ = original.__doc__
     _rebuild_env.__wrapped__ = original
+    # a kernel cached from here on names the rebuild as numba's own (pickled by reference): any
+    # process loads it, this patch installed or not
+    _rebuild_env.__module__, _rebuild_env.__qualname__ = original.__module__, original.__qualname__
+    _rebuild_env.__name__ = original.__name__
     environment._rebuild_env = _rebuild_env
 
 

@@ -99,6 +99,9 @@ def test_cached_kernels_load_without_the_refresh_and_compile_after(tmp_path):
     assert second["b"] == [2.0, 4.0, 6.0, 8.0, 10.0]
     assert not second["refreshed"]
     assert not second["arrayobj"]  # the loads imported none of numba's implementation modules
+    # the kernels cached with the start-up installed name numba's own rebuild, not the start-up's
+    cached = list((tmp_path / "cache").rglob("*.nbc"))
+    assert cached and not any(b"numba_start" in p.read_bytes() for p in cached)
     assert first["fresh"] == second["fresh"] == 15.0
     # the runtime's functions: compiled and written by the first process, loaded by the second
     assert first["runtime_compiled"] == 1 and second["runtime_compiled"] == 0
