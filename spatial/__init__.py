@@ -24,7 +24,10 @@ the first time it is read (`spatial.files.lazy`), so ``import spatial``
 loads no room and a job pays only for the rooms it uses.
 """
 
+from .files.deferred_imports import install as _install_deferred_imports
+from .files.frozen_imports import install as _install_frozen_imports
 from .files.lazy import lazy_exports
+from .files.vtk_listing import install as _install_vtk_listing
 from .files.shutdown import install as _install_shutdown
 
 #: Public names and the room each comes from (read on first use; the functions `section`,
@@ -70,6 +73,9 @@ _LAZY = {
 
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 _install_shutdown()  # the garbage collected once at exit, not walked again by the teardown (0.15 s)
+_install_frozen_imports()  # numba's and pyvista's objects left out of the collector's walks (0.2 s)
+_install_deferred_imports()  # pooch and yaml, which pyvista and numba import, run on first use (0.06 s)
+_install_vtk_listing()  # VTK's extension modules found in one listing of their folder (0.02 s)
 __all__ = sorted(["mesh", "mass_properties", *(name for name, (_, attribute) in _LAZY.items() if attribute)])
 
 

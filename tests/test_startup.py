@@ -34,7 +34,9 @@ _LOADED = ("import json, sys; print(json.dumps(sorted(m for m in sys.modules if 
 def test_import_spatial_loads_no_room_and_no_heavy_library():
     loaded = _fresh("import spatial; " + _LOADED)
     assert set(loaded) <= {"spatial", "spatial.files", "spatial.files.atomic", "spatial.files.lazy",
-                           "spatial.files.meshes", "spatial.files.progress", "spatial.files.shutdown"}, loaded
+                           "spatial.files.meshes", "spatial.files.progress", "spatial.files.shutdown",
+                           "spatial.files.frozen_imports", "spatial.files.deferred_imports",
+                           "spatial.files.vtk_listing"}, loaded
 
 
 def test_import_implicit_loads_no_scipy_numba_or_spatial():
@@ -86,3 +88,23 @@ def test_star_import_gives_the_public_names():
     exec("from spatial import *", namespace)
     assert {"mesh", "mass_properties", "tet_mesh", "report", "Octree"} <= set(namespace)
     assert "analysis" not in namespace  # rooms stay attributes, not star-imported names
+
+
+def test_the_mesh_command_reads_no_distribution_metadata(tmp_path):
+    # numba's extension loader and `--version` are the only readers, and neither runs for a mesh
+    out = str(tmp_path / "part.stl")
+    loaded = _fresh("import json, sys; from spatial.cli import main; "
+                    f"main(['mesh', 'examples/benchmark_part.py', '-o', {out!r}, '--resolution', '24']); "
+                    "print(json.dumps({k: type(sys.modules[k]).__name__ for k in ('importlib.metadata', 'email') "
+                    "if k in sys.modules}))")
+    assert loaded in ({}, {"importlib.metadata": "_LazyModule"}), loaded
+    assert os.path.getsize(out) > 84
+
+
+def test_version_is_read_when_asked_for():
+    from importlib import metadata
+
+    proc = subprocess.run([sys.executable, "-m", "spatial.cli", "--version"], capture_output=True, text=True,
+                          timeout=300, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout == f"implicad {metadata.version('implicad')}\n"

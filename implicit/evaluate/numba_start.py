@@ -25,6 +25,13 @@ Two more costs of every cached load go with it (about 5 ms of a 10 ms load,
   (5 us a pair, thousands per process); a cached load runs without them, so
   a dispatcher's ``llvm_lock`` timer counts compilations only.
 
+A kernel that inlined one of numba's own implementations (``np.empty``'s,
+in numba.np.arrayobj) carries that module's environment, and numba imports
+the module to rebuild it, for globals that only object mode reads: 45 ms of
+the first load, importing numba.np.arrayobj, numba.cpython.unicode and a few
+more.  Such an environment gets a namespace of the module's name alone when
+the module is not loaded yet.
+
 And before the first call of any kernel numba looks for its extensions among
 the entry points of every installed distribution, reading all their metadata
 through importlib.metadata (40 ms here, 90 distributions).  When no
@@ -40,6 +47,7 @@ Examples
 from __future__ import annotations
 
 import os
+import sys
 
 __all__ = ["install", "installed", "no_numba_extensions", "FULL_START"]
 
@@ -102,7 +110,46 @@ def _patch(caching) -> None:
     cache.load_overload = load_overload
     if lazy is not None:
         lazy()
+    _patch_rebuild_env()
+    from numba.core.runtime import nrtdynmod
+
+    from .numba_runtime import install as cached_runtime
+
+    cached_runtime(nrtdynmod)  # the runtime's own functions loaded from disk, not compiled (20 ms)
     _STATE["patched"] = True
+
+
+def _patch_rebuild_env() -> None:
+    """Cached kernels' environments of numba's own modules rebuilt without importing those modules."""
+    from numba.core import environment
+
+    original = getattr(environment, "_rebuild_env", None)
+    kind = getattr(environment, "Environment", None)
+    # the rebuild this was written against (numba 0.49 and later): memo, lookup, then the module's globals
+    if original is None or hasattr(original, "__wrapped__") or not hasattr(environment, "lookup_environment") \
+            or not hasattr(getattr(kind, "_memo", None), "__setitem__"):
+        return
+
+    def _rebuild_env(modname, consts, env_name):
+        # an inlined numba implementation (np.empty's lives in numba.np.arrayobj) gives its kernel the
+        # environment of its own module; numba imports that module for its globals, which only object
+        # mode reads.  A module not loaded yet gets a namespace of its name alone (45 ms at the first load).
+        if environment.lookup_environment(env_name) is not None or not modname \
+                or not modname.startswith("numba.") or modname in sys.modules:
+            return original(modname, consts, env_name)
+        env = kind({"__name__": modname})
+        env.consts[:] = consts
+        env.env_name = env_name
+        kind._memo[env_name] = env
+        return env
+
+    _rebuild_env.__doc__ = original.__doc__
+    _rebuild_env.__wrapped__ = original
+    # a kernel cached from here on names the rebuild as numba's own (pickled by reference): any
+    # process loads it, this patch installed or not
+    _rebuild_env.__module__, _rebuild_env.__qualname__ = original.__module__, original.__qualname__
+    _rebuild_env.__name__ = original.__name__
+    environment._rebuild_env = _rebuild_env
 
 
 def _llvm_lock():
@@ -190,7 +237,6 @@ def no_numba_extensions(paths=None) -> bool:
     >>> no_numba_extensions([tempfile.mkdtemp()])
     True
     """
-    import sys
     from importlib.machinery import PathFinder
 
     if paths is None and any(hasattr(f, "find_distributions") and f is not PathFinder for f in sys.meta_path):

@@ -15,7 +15,6 @@ import io
 import json
 import os
 import sys
-from importlib import metadata
 
 from .common import add_common_flags, install_warning_handler
 
@@ -58,10 +57,24 @@ class NoResult(Exception):
 
 
 def _version() -> str:
+    from importlib import metadata  # local: read only for --version (the distributions' metadata, 0.01 s)
+
     try:
         return metadata.version("implicad")
     except metadata.PackageNotFoundError:  # pragma: no cover - running from a plain checkout
         return "unknown"
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: argparse's version action with the version read only when it is asked for."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="show program's version number and exit"):
+        super().__init__(option_strings=option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser._print_message(f"implicad {_version()}\n", sys.stdout)
+        parser.exit()
 
 
 def _load_command(name):
@@ -95,7 +108,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
         "occupancy grids, boundary meshes, mass properties and FEA meshes.",
         epilog=_EPILOG,
     )
-    parser.add_argument("--version", action="version", version=f"implicad {_version()}")
+    parser.add_argument("--version", action=_VersionAction)
     parser.add_argument("--debug", action="store_true", help="show a traceback on errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True

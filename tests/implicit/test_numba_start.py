@@ -3,7 +3,9 @@
 A throw-away module of cached kernels (one allocating an array, one parallel) is compiled
 in a first fresh interpreter, then loaded in a second: the second gives the same values,
 never imports numba's linalg registry (the refresh's mark), and still compiles a new
-kernel that needs it, and one that calls a loaded kernel (linking the bitcode the load left unparsed).
+kernel that needs it, and one that calls a loaded kernel (linking the bitcode the load left unparsed);
+the environments of numba's own modules that the loaded kernels inlined are rebuilt without importing them,
+and numba's runtime functions are compiled by the first process only.
 The names a cached object defines, read from its ELF symbol table, are those numba reads from
 its bitcode.
 """
@@ -44,6 +46,9 @@ JOB = textwrap.dedent('''
     import implicit  # installs the start-up
     import numpy as np
     import numba
+    import numba.core.runtime.nrtdynmod as nrtdynmod
+    made, create = [], nrtdynmod.create_nrt_module
+    nrtdynmod.create_nrt_module = lambda ctx: made.append(1) or create(ctx)   # the runtime compiled from IR
     import kernels
     import numba.core.caching as caching
     from numba.core import event
@@ -61,13 +66,20 @@ JOB = textwrap.dedent('''
     b = kernels.doubled(x).tolist()
     lock_events = during
     refreshed = "numba.np.linalg" in sys.modules
+    arrayobj = "numba.np.arrayobj" in sys.modules  # np.empty's module, whose environment the loads rebuilt
     @numba.njit
     def norm(v):
         return np.linalg.norm(v)       # typing this needs the registries the load skipped
     @numba.njit
     def last(v):
         return kernels.cumulative(v)[-1]   # links the loaded kernel: its bitcode is parsed now
-    print(json.dumps(dict(a=a, b=b, refreshed=refreshed, norm=norm(x), last=last(x), lock_events=lock_events)))
+    @numba.njit
+    def fresh(v):
+        out = np.empty(v.size)             # lowers np.empty after the loads rebuilt its environment
+        out[:] = v
+        return out.sum()
+    print(json.dumps(dict(a=a, b=b, refreshed=refreshed, norm=norm(x), last=last(x), lock_events=lock_events,
+                          arrayobj=arrayobj, fresh=fresh(x), runtime_compiled=len(made))))
 ''')
 
 
@@ -86,13 +98,26 @@ def test_cached_kernels_load_without_the_refresh_and_compile_after(tmp_path):
     assert second["a"] == [1.0, 5.0, 14.0, 30.0, 55.0]
     assert second["b"] == [2.0, 4.0, 6.0, 8.0, 10.0]
     assert not second["refreshed"]
+    assert not second["arrayobj"]  # the loads imported none of numba's implementation modules
+    # the kernels cached with the start-up installed name numba's own rebuild, not the start-up's
+    cached = list((tmp_path / "cache").rglob("*.nbc"))
+    assert cached and not any(b"numba_start" in p.read_bytes() for p in cached)
+    assert first["fresh"] == second["fresh"] == 15.0
+    # the runtime's functions: compiled and written by the first process, loaded by the second
+    assert first["runtime_compiled"] == 1 and second["runtime_compiled"] == 0
+    (saved,) = (tmp_path / "cache").glob("numba_runtime-*.nbo")
+    saved.write_bytes(b"damaged")
+    third = _run(tmp_path)  # a damaged file is compiled again, and rewritten
+    assert third["runtime_compiled"] == 1 and third["a"] == second["a"] and third["fresh"] == 15.0
+    assert _run(tmp_path)["runtime_compiled"] == 0
     assert second["norm"] == pytest.approx(55.0 ** 0.5, rel=1e-15)
     assert first["last"] == second["last"] == 55.0
     assert len(second["lock_events"]) == 2 and sum(second["lock_events"]) == 0  # loads broadcast no lock events
     # numba's own start-up on request: the same values, with the refresh
     full = _run(tmp_path, IMPLICAD_NUMBA_FULL_START="1")
-    assert full["refreshed"] and full["a"] == second["a"] and full["b"] == second["b"]
+    assert full["refreshed"] and full["arrayobj"] and full["a"] == second["a"] and full["b"] == second["b"]
     assert full["last"] == 55.0 and len(full["lock_events"]) == 2 and min(full["lock_events"]) > 0
+    assert full["runtime_compiled"] == 1
 
 
 def test_install_is_idempotent_and_marks_the_loader():
