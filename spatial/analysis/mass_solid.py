@@ -19,7 +19,8 @@ from .mass_area import true_area
 from .mass_core import (_EPS, MAX_CELLS, MAX_WALL_CELLS, MIN_CELLS, SAFETY, WALL_CELLS, ToleranceError,
                         _check_closed, _corners, _faces_array, _moments_of, _Raw)
 
-__all__ = ["shell_correction", "default_mesher", "feature_mesher", "level_moments", "volume_moments", "solid_volume"]
+__all__ = ["shell_correction", "default_mesher", "feature_mesher", "level_moments", "volume_moments", "solid_volume",
+           "volume_on_finest"]
 
 #: Safety factor of the feature meshes' error estimate (`_feature_estimate`).
 FEATURE_SAFETY = 4.0
@@ -352,10 +353,9 @@ def solid_volume(solid, *, tolerance, finest=None, voxel_size=None, progress=Fal
     The levels and the estimate are those of `mass_properties` for a tolerance (feature meshes,
     `_feature_estimate`; plain meshes and Richardson's below `FEATURE_FLOOR`), with only the volume
     wanted: no true area (`volume_moments`).  `finest`, a closed feature mesh of the solid made
-    already at `voxel_size` (the start of `spatial.fea`'s surfaces), is taken as the finest level,
-    with the feature meshes at twice and four times its voxel, when the coarsest of them holds the
-    thinnest wall (`WALL_CELLS` across it) and the estimate meets `tolerance`; else the levels
-    `mass_properties` would choose.
+    already at `voxel_size` (the start of `spatial.fea`'s surfaces), is taken as the finest level
+    where `volume_on_finest` can (the coarsest level holds the thinnest wall and the estimate
+    meets `tolerance`); else the levels `mass_properties` would choose.
 
     Parameters
     ----------
@@ -387,31 +387,68 @@ def solid_volume(solid, *, tolerance, finest=None, voxel_size=None, progress=Fal
     >>> round(v, 6), err <= 1e-3
     (8.0, True)
     """
+    tolerance = _relative_tolerance(tolerance)
+    if finest is not None:
+        if voxel_size is None:
+            raise ValueError("voxel_size: needed with finest (the voxel it was meshed at)")
+        got = volume_on_finest(solid, finest, voxel_size, tolerance=tolerance, progress=progress)
+        if got is not None:
+            return got
+    features = tolerance >= FEATURE_FLOOR
+    raw, _, _, _ = _solid_raw(solid, tolerance=tolerance, moments=volume_moments(features, progress),
+                              features=features)
+    return float(raw.volume), float(raw.e_volume / abs(raw.volume)) if raw.volume else float("inf")
+
+
+def volume_on_finest(solid, finest, voxel_size, *, tolerance, progress=False):
+    """The volume of `solid` and its relative error from its feature mesh `finest` at `voxel_size`
+    and the feature meshes at twice and four times that voxel (`_feature_estimate`, volume only),
+    or None when the coarsest of them would not hold the thinnest wall (`WALL_CELLS` across it),
+    the estimate misses `tolerance` or the tolerance lies below `FEATURE_FLOOR`.
+
+    It changes no global state (no warnings filters, unlike `_coarse_level`): it may run in a
+    thread beside other work, as `spatial.fea.tet_mesh` runs it beside the surface.
+
+    Examples
+    --------
+    >>> from implicit import box
+    >>> from spatial.meshing.boundary import mesh
+    >>> fine = mesh(box(2.0), voxel_size=0.1, features=True, progress=False)
+    >>> v, err = volume_on_finest(box(2.0), fine, 0.1, tolerance=1e-3)
+    >>> round(v, 6), err <= 1e-3
+    (8.0, True)
+    """
+    from ..cells.thickness import min_feature_size
+
+    tolerance = _relative_tolerance(tolerance)
+    h = float(voxel_size)
+    if tolerance < FEATURE_FLOOR or finest.n_cells == 0 or 4 * h * WALL_CELLS > min_feature_size(solid):
+        return None
+    moments = volume_moments(True, progress)
+    lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
+    c0 = 0.5 * (lo + hi)
+    vecs = []
+    for coarse in (4 * h, 2 * h):
+        try:
+            vecs.append(moments(solid, coarse, c0))
+        except ValueError:  # the mesher gave up at these cells: an empty level, as `_coarse_level` counts it
+            vecs.append(np.zeros(14))
+    pts, tri = _faces_array(finest)
+    vecs.append(level_moments(solid, pts, tri, c0, voxel_size=h, area=False))
+    est, err = _feature_estimate(vecs)
+    err = _honest(est, err, lo, hi, c0)
+    if not err[0] <= tolerance * abs(est[0]):
+        return None
+    return float(est[0]), float(err[0] / abs(est[0]))
+
+
+def _relative_tolerance(tolerance):
     from implicit.solid import as_positive
 
     tolerance = as_positive(tolerance, "tolerance")
     if tolerance >= 1:
         raise ValueError(f"tolerance: expected a relative error below 1, got {tolerance:g}")
-    if finest is not None and voxel_size is None:
-        raise ValueError("voxel_size: needed with finest (the voxel it was meshed at)")
-    features = tolerance >= FEATURE_FLOOR
-    moments = volume_moments(features, progress)
-    if finest is not None and features and finest.n_cells:
-        from ..cells.thickness import min_feature_size
-
-        h = float(voxel_size)
-        if 4 * h * WALL_CELLS <= min_feature_size(solid):
-            lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
-            c0 = 0.5 * (lo + hi)
-            pts, tri = _faces_array(finest)
-            vecs = [_coarse_level(solid, 4 * h, c0, moments), _coarse_level(solid, 2 * h, c0, moments),
-                    level_moments(solid, pts, tri, c0, voxel_size=h, area=False)]
-            est, err = _feature_estimate(vecs)
-            err = _honest(est, err, lo, hi, c0)
-            if err[0] <= tolerance * abs(est[0]):
-                return float(est[0]), float(err[0] / abs(est[0]))
-    raw, _, _, _ = _solid_raw(solid, tolerance=tolerance, moments=moments, features=features)
-    return float(raw.volume), float(raw.e_volume / abs(raw.volume)) if raw.volume else float("inf")
+    return tolerance
 
 
 # ---------------------------------------------------------------------------

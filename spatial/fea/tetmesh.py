@@ -441,6 +441,9 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
     the first surface's feature mesh (`_solid_volume`).  Returns the surface, its size and
     ``(volume, relative error)``.
     """
+    from concurrent.futures import ThreadPoolExecutor
+
+    from ..analysis.mass_solid import volume_on_finest
     from ..meshing.boundary import mesh as _mesh_solid
 
     err = None
@@ -450,22 +453,33 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
         if field is None:
             # The feature mesh `surface_for_fea` starts from, made here so that the volume is measured on it too.
             feature = _mesh_solid(solid, voxel_size=size * factor / 4.0, features=True, progress=False)
-        if known[0] is None:
-            finest = feature if feature is not None and _is_closed_manifold(mesh_faces(feature)) else None
-            known = _solid_volume(solid, None, tolerance, finest, size * factor / 4.0)
-        volume, allowed = known[0], (tolerance + known[1]) * order
-        try:
-            if field is None:
-                surface = surface_for_fea(solid, size=size * factor, feature_mesh=feature)
-            else:
-                # Snapping and relaxing move vertices by up to a fraction of the size: the smallest one.
-                graded = field.capped(size).scaled(factor)
-                surface = graded_surface(solid, graded)  # capped locally where it crosses itself
-        except ValueError as exc:
-            if "self-intersecting" not in str(exc):
-                raise
-            err = exc
+        with ThreadPoolExecutor(max_workers=1, thread_name_prefix="implicad-volume") as pool:
+            measured = None
+            if known[0] is None and feature is not None and _is_closed_manifold(mesh_faces(feature)):
+                # The volume's coarser levels are meshed beside the surface (the meshers' compiled
+                # passes release the interpreter's lock): the same figures as one after the other.
+                measured = pool.submit(volume_on_finest, solid, feature, size * factor / 4.0,
+                                       tolerance=ESTIMATE_SHARE * tolerance)
+            try:
+                if field is None:
+                    surface = surface_for_fea(solid, size=size * factor, feature_mesh=feature)
+                else:
+                    # Snapping and relaxing move vertices by up to a fraction of the size: the smallest one.
+                    graded = field.capped(size).scaled(factor)
+                    surface = graded_surface(solid, graded)  # capped locally where it crosses itself
+            except ValueError as exc:
+                if "self-intersecting" not in str(exc):
+                    raise
+                err = exc
+                surface = None
+            if known[0] is None:
+                got = None if measured is None else measured.result()
+                # where the surface's feature mesh cannot give it: levels of their own (no thread: they
+                # set warnings filters, which are global)
+                known = got if got is not None else _solid_volume(solid, None, tolerance)
+        if surface is None:
             continue
+        volume, allowed = known[0], (tolerance + known[1]) * order
         kept = surface, size * factor, known
         if abs(abs(float(surface.volume)) - volume) <= allowed * max(abs(volume), 1e-300):
             return kept
@@ -479,14 +493,13 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
 ESTIMATE_SHARE = 0.2
 
 
-def _solid_volume(solid, known=None, tolerance=0.005, finest=None, voxel_size=None):
+def _solid_volume(solid, known=None, tolerance=0.005):
     """The solid's volume and its relative error estimate, within ``ESTIMATE_SHARE * tolerance``.
 
-    Measured on the solid's feature meshes, thin-shell corrected (`spatial.analysis.mass_solid.
-    solid_volume`, the levels `mass_properties` takes for a tolerance, only the volume): `finest`
-    is the feature mesh at `voxel_size` the surface starts from, the finest level when its coarsest
-    holds the part's thinnest wall.  Where that tolerance cannot be reached, the mass properties
-    at 128 cells across and the error they reach.
+    Measured on the solid's feature meshes, thin-shell corrected, at the levels `mass_properties`
+    takes for a tolerance, only the volume (`spatial.analysis.mass_solid.solid_volume`; `tet_mesh`
+    first tries the surface's own feature mesh as the finest level, `volume_on_finest`).  Where
+    that tolerance cannot be reached, the mass properties at 128 cells across and the error they reach.
     """
     if known is not None:
         return float(known), 0.0
@@ -494,7 +507,7 @@ def _solid_volume(solid, known=None, tolerance=0.005, finest=None, voxel_size=No
     from ..analysis.mass_solid import solid_volume
 
     try:
-        return solid_volume(solid, tolerance=ESTIMATE_SHARE * tolerance, finest=finest, voxel_size=voxel_size)
+        return solid_volume(solid, tolerance=ESTIMATE_SHARE * tolerance)
     except ToleranceError:
         mp = mass_properties(solid, resolution=128, mesher=_quiet_mesher)
         return float(mp.volume), float(mp.relative_error())

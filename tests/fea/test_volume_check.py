@@ -8,7 +8,7 @@ import pyvista as pv
 import spatial.fea.tetmesh as tetmesh
 from implicit import box, cylinder, sphere
 from spatial.analysis.mass import ToleranceError
-from spatial.analysis.mass_solid import level_moments, solid_volume
+from spatial.analysis.mass_solid import level_moments, solid_volume, volume_on_finest
 from spatial.fea.surface import surface_for_fea
 from spatial.fea.tetmesh import ESTIMATE_SHARE, MeshQualityError, tet_mesh
 from spatial.meshing.arrays import faces_array
@@ -57,6 +57,8 @@ def test_solid_volume_refuses_bad_options():
     with pytest.raises(ValueError, match="tolerance"):
         solid_volume(BENCH, tolerance=0.0)
     with pytest.raises(ValueError, match="tolerance"):
+        volume_on_finest(BENCH, pv.Sphere(), 0.1, tolerance=-1.0)
+    with pytest.raises(ValueError, match="tolerance"):
         solid_volume(BENCH, tolerance=1.5)
     with pytest.raises(ValueError, match="voxel_size"):
         solid_volume(BENCH, tolerance=1e-3, finest=pv.Sphere())
@@ -74,19 +76,31 @@ def test_the_mass_properties_at_128_cells_where_the_tolerance_cannot_be_met(monk
 
 
 def test_tet_mesh_measures_the_volume_on_the_surfaces_feature_mesh(monkeypatch):
+    import spatial.analysis.mass_solid as mass_solid
+
     calls = []
-    real = tetmesh._solid_volume
+    real = mass_solid.volume_on_finest
 
-    def spy(solid, known=None, tolerance=0.005, finest=None, voxel_size=None):
-        calls.append((finest is not None, voxel_size))
-        return real(solid, known, tolerance, finest, voxel_size)
+    def spy(solid, finest, voxel_size, **kw):
+        got = real(solid, finest, voxel_size, **kw)
+        calls.append((finest.n_cells, voxel_size, got is not None))
+        return got
 
-    monkeypatch.setattr(tetmesh, "_solid_volume", spy)
-    m = tet_mesh(BENCH, size=0.15)
-    assert calls == [(True, 0.15 / 4)]
+    monkeypatch.setattr(mass_solid, "volume_on_finest", spy)
+    monkeypatch.setattr(tetmesh, "_solid_volume", None)  # no levels of its own
+    m = tet_mesh(BENCH, size=0.1)  # (at 0.15 the coarsest level, 10 cells across, misses by 1 %: levels of its own)
+    assert len(calls) == 1 and calls[0][0] > 10000 and calls[0][1:] == (0.1 / 4, True)
     assert m.info["volume_estimate"] == pytest.approx(BENCH_VOLUME, rel=1e-4)
     assert 0 < m.info["volume_estimate_error"] <= ESTIMATE_SHARE * 0.005
     assert m.info["volume_error"] < 0.005
+
+
+def test_tet_mesh_measures_levels_of_its_own_where_the_feature_mesh_cannot_serve():
+    # the beam at size 10: the surface's voxel 2.5, its coarsest level 10 as thick as the beam
+    beam = box((100, 10, 10), center=(50, 0, 0))
+    m = tet_mesh(beam, size=10.0)
+    assert m.info["volume_estimate"] == pytest.approx(1e4, rel=1e-4)
+    assert 0 < m.info["volume_estimate_error"] <= ESTIMATE_SHARE * 0.005
 
 
 def test_a_surface_that_misses_the_solid_is_refused_though_the_volume_comes_from_its_feature_mesh(monkeypatch):
