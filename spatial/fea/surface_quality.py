@@ -21,10 +21,15 @@ FOLD_COSINE = -0.9
 # ---------------------------------------------------------------------------
 
 def mesh_faces(mesh) -> np.ndarray:
-    """Triangles of a pyvista mesh as an ``(m, 3)`` int array (triangulating if needed)."""
+    """Triangles of a pyvista mesh as an ``(m, 3)`` int array (triangulating if needed).
+
+    Read from the cells' connectivity (`regular_faces`): the legacy ``faces`` array is a copy that
+    VTK builds each time (1.6 ms for the benchmark part's feature mesh of 77,000 triangles, read
+    three times per surface).
+    """
     if not mesh.is_all_triangles:
         mesh = mesh.triangulate()
-    return np.asarray(mesh.faces).reshape(-1, 4)[:, 1:].astype(np.int64)
+    return np.asarray(mesh.regular_faces).astype(np.int64)
 
 
 def _triangle_angles(points, faces):
