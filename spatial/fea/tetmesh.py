@@ -133,13 +133,13 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         Most points TetGen may add (default: 20 times the expected node count).
     volume_tolerance : float
         Allowed relative difference between the mesh volume and the solid's
-        volume (`spatial.analysis.mass_properties`, see Notes).
+        volume (measured on its own meshes, see Notes).
     allow_poor : bool
         Warn (`MeshQualityWarning`) instead of raising `MeshQualityError`
         when a dihedral angle, radius-edge ratio or the volume misses what
         was asked.
     reference_volume : float, optional
-        The solid's volume when known (skips the mass-properties run).
+        The solid's volume when known (skips measuring it).
     seed : int
         Seed of the smoothing's random trial positions.
 
@@ -166,12 +166,17 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     Notes
     -----
     The volume check compares the mesh volume (curved elements integrated
-    for order 2) with the solid's own volume from
-    `spatial.analysis.mass_properties` (extrapolated marching-cubes meshes,
-    128 cells across), not with a figure derived from the mesh's boundary:
-    a boundary that cuts a corner or misses a concave edge shows up.  The
-    tolerance is `volume_tolerance` plus the mass properties' own error
-    estimate.  When the surface cannot be remeshed free of self-intersections
+    for order 2) with the solid's own volume, measured as
+    `spatial.analysis.mass_properties` measures it for a tolerance (thin-shell
+    corrected feature meshes at three levels, the error from their steps;
+    `spatial.analysis.mass_solid.solid_volume`) to ``ESTIMATE_SHARE *
+    volume_tolerance``: the finest level is the feature mesh the surface is
+    clustered from, the two coarser ones are meshed in a thread beside the
+    surface (`volume_on_finest`; levels of their own where it cannot serve,
+    the mass properties at 128 cells where even those miss).  Not a figure
+    derived from the mesh's boundary: a boundary that cuts a corner or misses
+    a concave edge shows up.  The tolerance is `volume_tolerance` plus the
+    estimate's own error.  When the surface cannot be remeshed free of self-intersections
     at `size`, or its enclosed volume misses the solid's by more than that
     tolerance (times `order`: a part as thin as `size`), the surface is
     remeshed finer (`size` / 1.25, / 1.25^2 ...) and ``info["surface_size"]``
