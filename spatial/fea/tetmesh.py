@@ -133,13 +133,13 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         Most points TetGen may add (default: 20 times the expected node count).
     volume_tolerance : float
         Allowed relative difference between the mesh volume and the solid's
-        volume (`spatial.analysis.mass_properties`, see Notes).
+        volume (measured on its own meshes, see Notes).
     allow_poor : bool
         Warn (`MeshQualityWarning`) instead of raising `MeshQualityError`
         when a dihedral angle, radius-edge ratio or the volume misses what
         was asked.
     reference_volume : float, optional
-        The solid's volume when known (skips the mass-properties run).
+        The solid's volume when known (skips measuring it).
     seed : int
         Seed of the smoothing's random trial positions.
 
@@ -166,12 +166,17 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     Notes
     -----
     The volume check compares the mesh volume (curved elements integrated
-    for order 2) with the solid's own volume from
-    `spatial.analysis.mass_properties` (extrapolated marching-cubes meshes,
-    128 cells across), not with a figure derived from the mesh's boundary:
-    a boundary that cuts a corner or misses a concave edge shows up.  The
-    tolerance is `volume_tolerance` plus the mass properties' own error
-    estimate.  When the surface cannot be remeshed free of self-intersections
+    for order 2) with the solid's own volume, measured as
+    `spatial.analysis.mass_properties` measures it for a tolerance (thin-shell
+    corrected feature meshes at three levels, the error from their steps;
+    `spatial.analysis.mass_solid.solid_volume`) to ``ESTIMATE_SHARE *
+    volume_tolerance``: the finest level is the feature mesh the surface is
+    clustered from, the two coarser ones are meshed in a thread beside the
+    surface (`volume_on_finest`; levels of their own where it cannot serve,
+    the mass properties at 128 cells where even those miss).  Not a figure
+    derived from the mesh's boundary: a boundary that cuts a corner or misses
+    a concave edge shows up.  The tolerance is `volume_tolerance` plus the
+    estimate's own error.  When the surface cannot be remeshed free of self-intersections
     at `size`, or its enclosed volume misses the solid's by more than that
     tolerance (times `order`: a part as thin as `size`), the surface is
     remeshed finer (`size` / 1.25, / 1.25^2 ...) and ``info["surface_size"]``
@@ -226,12 +231,10 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     clock = [time.perf_counter()]
     estimate = None
     if surface is None:
-        estimate, est_err = _solid_volume(solid, reference_volume) if _graded is None else _graded[2]
-        # Order 2 adds the curvature the chords miss: its linear surface may miss more.
-        allowed = (volume_tolerance + est_err) * order
+        known = (reference_volume, 0.0) if _graded is None else _graded[2]
         # 10-node elements: edges short enough for their mid nodes to go onto curved faces
-        surface, info["surface_size"] = _surface_for(solid, size if order == 1 else curvature_size(solid, size),
-                                                     estimate, allowed, field)
+        surface, info["surface_size"], (estimate, est_err) = _surface_for(
+            solid, size if order == 1 else curvature_size(solid, size), known, volume_tolerance, order, field)
         info.update(surface_info(surface))
         if "clusters" in surface.field_data:  # confined to the faces or free (surface_for_fea)
             info["surface_clusters"] = str(np.asarray(surface.field_data["clusters"]).reshape(-1)[0])
@@ -327,7 +330,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
         raise ValueError(f"tet_mesh: inverted element (scaled Jacobian {quality.min_scaled_jacobian:.3g})")
     # Volume check against the solid's own volume (not one derived from the mesh's boundary).
     if estimate is None:
-        estimate, est_err = _solid_volume(solid, reference_volume)
+        estimate, est_err = _solid_volume(solid, reference_volume, volume_tolerance)
     rel = abs(quality.volume - estimate) / max(abs(estimate), 1e-300)
     info.update(volume_estimate=estimate, volume_error=rel, volume_estimate_error=est_err, cap_hit=bool(cap_hit))
     bnodes = np.unique(bfaces)
@@ -430,44 +433,89 @@ def interior_lattice(solid, surface_points, size):
     return pts
 
 
-def _surface_for(solid, size, volume=None, allowed=None, field=None):
+def _surface_for(solid, size, known, tolerance, order, field=None):
     """`surface_for_fea` at `size`, or at the first finer size of `SURFACE_RETRIES` whose surface
-    is free of self-intersections (sharp features closer than `size` need more vertices) and,
-    given the solid's `volume`, encloses it within the relative error `allowed` (a surface that
-    cuts across a wall as thick as `size` misses a good part of it).  The last surface that
-    intersects nothing is kept when none does both; the volume check of the mesh then reports it.
-    A graded `field` (`spatial.fea.graded`) is capped at `size` and scaled along."""
+    is free of self-intersections (sharp features closer than `size` need more vertices) and
+    encloses the solid's volume within ``(tolerance + its estimate's error) * order`` (a surface
+    that cuts across a wall as thick as `size` misses a good part of it; order 2 adds the
+    curvature the chords miss).  The last surface that intersects nothing is kept when none does
+    both; the volume check of the mesh then reports it.  A graded `field` (`spatial.fea.graded`)
+    is capped at `size` and scaled along.
+
+    `known` is ``(volume, relative error)``, the volume None when it is to be measured: then on
+    the first surface's feature mesh (`_solid_volume`).  Returns the surface, its size and
+    ``(volume, relative error)``.
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    from ..analysis.mass_solid import volume_on_finest
+    from ..meshing.boundary import mesh as _mesh_solid
+
     err = None
     kept = None
     for factor in SURFACE_RETRIES:
-        try:
-            if field is None:
-                surface = surface_for_fea(solid, size=size * factor)
-            else:
-                # Snapping and relaxing move vertices by up to a fraction of the size: the smallest one.
-                graded = field.capped(size).scaled(factor)
-                surface = graded_surface(solid, graded)  # capped locally where it crosses itself
-        except ValueError as exc:
-            if "self-intersecting" not in str(exc):
-                raise
-            err = exc
+        feature = None
+        if field is None:
+            # The feature mesh `surface_for_fea` starts from, made here so that the volume is measured on it too.
+            feature = _mesh_solid(solid, voxel_size=size * factor / 4.0, features=True, progress=False)
+        with ThreadPoolExecutor(max_workers=1, thread_name_prefix="implicad-volume") as pool:
+            measured = None
+            if known[0] is None and feature is not None and _is_closed_manifold(mesh_faces(feature)):
+                # The volume's coarser levels are meshed beside the surface (the meshers' compiled
+                # passes release the interpreter's lock): the same figures as one after the other.
+                measured = pool.submit(volume_on_finest, solid, feature, size * factor / 4.0,
+                                       tolerance=ESTIMATE_SHARE * tolerance)
+            try:
+                if field is None:
+                    surface = surface_for_fea(solid, size=size * factor, feature_mesh=feature)
+                else:
+                    # Snapping and relaxing move vertices by up to a fraction of the size: the smallest one.
+                    graded = field.capped(size).scaled(factor)
+                    surface = graded_surface(solid, graded)  # capped locally where it crosses itself
+            except ValueError as exc:
+                if "self-intersecting" not in str(exc):
+                    raise
+                err = exc
+                surface = None
+            if known[0] is None:
+                got = None if measured is None else measured.result()
+                # where the surface's feature mesh cannot give it: levels of their own (no thread: they
+                # set warnings filters, which are global)
+                known = got if got is not None else _solid_volume(solid, None, tolerance)
+        if surface is None:
             continue
-        kept = surface, size * factor
-        if volume is None or abs(abs(float(surface.volume)) - volume) <= allowed * max(abs(volume), 1e-300):
+        volume, allowed = known[0], (tolerance + known[1]) * order
+        kept = surface, size * factor, known
+        if abs(abs(float(surface.volume)) - volume) <= allowed * max(abs(volume), 1e-300):
             return kept
     if kept is not None:
         return kept
     raise err
 
 
-def _solid_volume(solid, known=None):
-    """The solid's volume and its relative error estimate (mass properties, 128 cells across)."""
+#: Share of `tet_mesh`'s `volume_tolerance` the solid's volume estimate may take (the check allows
+#: the tolerance plus the estimate's error): 1e-3 of the volume at the default tolerance.
+ESTIMATE_SHARE = 0.2
+
+
+def _solid_volume(solid, known=None, tolerance=0.005):
+    """The solid's volume and its relative error estimate, within ``ESTIMATE_SHARE * tolerance``.
+
+    Measured on the solid's feature meshes, thin-shell corrected, at the levels `mass_properties`
+    takes for a tolerance, only the volume (`spatial.analysis.mass_solid.solid_volume`; `tet_mesh`
+    first tries the surface's own feature mesh as the finest level, `volume_on_finest`).  Where
+    that tolerance cannot be reached, the mass properties at 128 cells across and the error they reach.
+    """
     if known is not None:
         return float(known), 0.0
-    from ..analysis.mass import mass_properties
+    from ..analysis.mass import ToleranceError, mass_properties
+    from ..analysis.mass_solid import solid_volume
 
-    mp = mass_properties(solid, resolution=128, mesher=_quiet_mesher)
-    return float(mp.volume), float(mp.relative_error())
+    try:
+        return solid_volume(solid, tolerance=ESTIMATE_SHARE * tolerance)
+    except ToleranceError:
+        mp = mass_properties(solid, resolution=128, mesher=_quiet_mesher)
+        return float(mp.volume), float(mp.relative_error())
 
 
 def _quiet_mesher(solid, h):

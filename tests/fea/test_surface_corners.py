@@ -78,7 +78,7 @@ def test_beam_as_thick_as_the_size_keeps_its_volume():
     coarse = surface_for_fea(beam, size=10.0)
     assert coarse.field_data["start"][0] == "features" and coarse.field_data["clusters"][0] == "faces"
     assert abs(abs(coarse.volume) - 1e4) / 1e4 < 1e-9
-    s, used = _surface_for(beam, 10.0, 1e4, 0.005)
+    s, used, _ = _surface_for(beam, 10.0, (1e4, 0.0), 0.005, 1)
     assert used == 10.0
     assert abs(s.volume - 10000.0) / 10000.0 < 1e-9
 
