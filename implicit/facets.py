@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .facet_gradients import leaf_facets_with_gradients
-from .facet_prune import facet_order, pruned_decide, subset_values
+from .facet_prune import Capsules, facet_order, operands, pruned_decide, subset_values
 from .profile_facets import polygon_runs, run_fields
 from .solid import Solid
 
@@ -402,8 +402,11 @@ class FacetField:
             if hi == lo:                          # no facet of this subtree is asked for
                 counter[0] += self._n_facets(node)
                 return start, counter[0]
-            for c in node.children:
-                self._grad_walk(c, p, rows, fac, g, counter, step)
+            for c in operands(self, node):
+                if type(c) is Capsules:           # a run of capsules: one compiled loop over their rows
+                    c.gradients(p, rows, fac, g, counter)
+                else:
+                    self._grad_walk(c, p, rows, fac, g, counter, step)
         elif kind in ("complement", "family", "offset"):
             self._grad_walk(node.children[0], p, rows, fac, g, counter, step)
         elif kind == "affine":
