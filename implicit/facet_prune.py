@@ -31,8 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MAX_BINS_PER_AXIS", "POINTS_PER_BIN", "Bins", "Capsules", "facet_order", "operands", "pruned_decide",
-           "subset_values"]
+__all__ = ["MAX_BINS_PER_AXIS", "POINTS_PER_BIN", "Bins", "Capsules", "facet_order", "leaf_loops", "operands",
+           "pruned_decide", "subset_values"]
 
 #: Target number of points per bin of the grid the walk is pruned on.
 POINTS_PER_BIN = 64
@@ -535,3 +535,19 @@ def _capsule_loops():
         else:
             _LOOPS.append((capsules_at, capsule_gradients_at))
     return _LOOPS[0]
+
+
+_LEAF_LOOPS: list = []
+
+
+def leaf_loops():
+    """The module `implicit.facet_leaf_kernel` (a box's, a cylinder's and a sphere's field and deciding
+    facet by one compiled loop each), or None without numba (then numpy evaluates them)."""
+    if not _LEAF_LOOPS:
+        try:
+            from . import facet_leaf_kernel
+        except ImportError:
+            _LEAF_LOOPS.append(None)
+        else:
+            _LEAF_LOOPS.append(facet_leaf_kernel)
+    return _LEAF_LOOPS[0]
