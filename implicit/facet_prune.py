@@ -83,9 +83,14 @@ class Bins:
         scale = np.where(flat, 0.0, g / np.where(flat, 1.0, ext))
         cell = np.minimum(((p - lo) * scale).astype(np.int64), g - 1)
         key = (cell[:, 0] * g[1] + cell[:, 1]) * g[2] + cell[:, 2]
-        self.order = np.argsort(key, kind="stable")
-        ks = key[self.order]
-        self.starts = np.concatenate([[0], np.flatnonzero(ks[1:] != ks[:-1]) + 1, [n]]).astype(np.int64)
+        loops, n_keys = _capsule_loops(), int(np.prod(g))
+        if loops is not None and n and 0 <= key.min() and key.max() < n_keys:
+            # a compiled counting sort of the bins' keys: numpy's stable order of them, several times faster
+            self.order, self.starts = loops[2](key, n_keys)
+        else:
+            self.order = np.argsort(key, kind="stable")
+            ks = key[self.order]
+            self.starts = np.concatenate([[0], np.flatnonzero(ks[1:] != ks[:-1]) + 1, [n]]).astype(np.int64)
         self.sorted = np.ascontiguousarray(p[self.order])
         first = self.starts[:-1]
         self.lo = np.minimum.reduceat(self.sorted, first, axis=0)
@@ -526,14 +531,15 @@ _LOOPS: list = []
 
 
 def _capsule_loops():
-    """``(capsules_at, capsule_gradients_at)`` of `implicit.facet_prune_kernel`, or None without numba."""
+    """``(capsules_at, capsule_gradients_at, bin_points)`` of `implicit.facet_prune_kernel`, or None without
+    numba."""
     if not _LOOPS:
         try:
-            from .facet_prune_kernel import capsule_gradients_at, capsules_at
+            from .facet_prune_kernel import bin_points, capsule_gradients_at, capsules_at
         except ImportError:
             _LOOPS.append(None)
         else:
-            _LOOPS.append((capsules_at, capsule_gradients_at))
+            _LOOPS.append((capsules_at, capsule_gradients_at, bin_points))
     return _LOOPS[0]
 
 

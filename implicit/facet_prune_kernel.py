@@ -8,7 +8,7 @@ of the walk over the operands one by one.  A Boolean's consecutive capsule
 operands (a lattice's struts) are evaluated by one loop over all their rows
 (`capsules_at`, `capsule_gradients_at`), each row by the arithmetic of the
 capsule's own loop (`implicit.primitive_kernels`): the same bits, without a
-call per capsule.  Module-level ``njit(cache=True)`` functions, loaded from
+call per capsule.  `bin_points` sorts the points into their bins.  Module-level ``njit(cache=True)`` functions, loaded from
 numba's on-disk cache; imported on first use only (numba is not imported
 with `implicit`).
 """
@@ -22,7 +22,7 @@ import numpy as np
 
 from .primitive_kernels import _from_segment
 
-__all__ = ["capsule_gradients_at", "capsules_at", "first_best"]
+__all__ = ["bin_points", "capsule_gradients_at", "capsules_at", "first_best"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -72,3 +72,30 @@ def capsule_gradients_at(p, rows, which, a, ab, ab2, grad):  # pragma: no cover 
             grad[k, 0], grad[k, 1], grad[k, 2] = wx / d, wy / d, wz / d
         else:
             grad[k, 0], grad[k, 1], grad[k, 2] = 0.0, 0.0, 0.0
+
+
+@numba.njit(cache=True, nogil=True)
+def bin_points(key, n_keys):  # pragma: no cover - compiled
+    """The stable order of `key` (each in ``0 .. n_keys - 1``) by a counting sort, as
+    ``np.argsort(key, kind="stable")``, and the first sorted position of every occupied key and the end."""
+    n = key.shape[0]
+    count = np.zeros(n_keys + 1, np.int64)
+    for i in range(n):
+        count[key[i] + 1] += 1
+    occupied = 0
+    for b in range(n_keys):
+        occupied += count[b + 1] > 0
+        count[b + 1] += count[b]
+    starts = np.empty(occupied + 1, np.int64)
+    r = 0
+    for b in range(n_keys):
+        if count[b + 1] > count[b]:
+            starts[r] = count[b]
+            r += 1
+    starts[occupied] = n
+    order = np.empty(n, np.int64)
+    for i in range(n):
+        b = key[i]
+        order[count[b]] = i
+        count[b] += 1
+    return order, starts

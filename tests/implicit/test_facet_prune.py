@@ -265,3 +265,23 @@ def _booleans(node):
     for c in node.children:
         out += _booleans(c)
     return out
+
+
+def test_bins_by_the_compiled_counting_sort_are_numpys(monkeypatch):
+    """`Bins` sorted by the compiled counting sort (`facet_prune_kernel.bin_points`) and by numpy's stable
+    argsort: the same order, bins, sorted points and boxes."""
+    import implicit.facet_prune as fp
+
+    p = _points(5, 20000)
+    p[:3000] = np.round(p[:3000])                       # many equal coordinates, zeros of both signs
+    p[:1500] *= -1.0
+    for per_bin in (1, 16, 64, 5000):
+        got = fp.Bins(p, per_bin)
+        with monkeypatch.context() as m:
+            m.setattr(fp, "_capsule_loops", lambda: None)
+            want = fp.Bins(p, per_bin)
+        for name in ("order", "starts", "sorted", "lo", "hi"):
+            a, b = getattr(got, name), getattr(want, name)
+            assert a.dtype == b.dtype and np.array_equal(a, b)
+            assert np.array_equal(np.signbit(a), np.signbit(b))
+    assert got.starts.shape[0] > 2 and fp.Bins(p, 16).starts.shape[0] > 500
