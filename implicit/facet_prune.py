@@ -73,7 +73,10 @@ class Bins:
     def __init__(self, points, per_bin=POINTS_PER_BIN):
         p = np.asarray(points, dtype=np.float64)
         n = p.shape[0]
-        lo, hi = p.min(axis=0), p.max(axis=0)
+        loops = _capsule_loops()
+        fast = loops is not None and n > 0 and p.ndim == 2 and p.shape[1] == 3 and p.flags.c_contiguous
+        # (the compiled passes give the same keys: a zero's sign in the range changes no cell)
+        lo, hi = loops[4](p) if fast else (p.min(axis=0), p.max(axis=0))
         ext = hi - lo
         flat = ext <= 1e-9 * max(float(ext.max()), 1e-300)
         g = np.ones(3, dtype=np.int64)
@@ -81,9 +84,12 @@ class Bins:
             h = (float(np.prod(ext[~flat])) * per_bin / max(n, 1)) ** (1.0 / int((~flat).sum()))
             g[~flat] = np.clip(np.round(ext[~flat] / h), 1, MAX_BINS_PER_AXIS).astype(np.int64)
         scale = np.where(flat, 0.0, g / np.where(flat, 1.0, ext))
-        cell = np.minimum(((p - lo) * scale).astype(np.int64), g - 1)
-        key = (cell[:, 0] * g[1] + cell[:, 1]) * g[2] + cell[:, 2]
-        loops, n_keys = _capsule_loops(), int(np.prod(g))
+        if fast:
+            key = loops[3](p, lo, scale, g)
+        else:
+            cell = np.minimum(((p - lo) * scale).astype(np.int64), g - 1)
+            key = (cell[:, 0] * g[1] + cell[:, 1]) * g[2] + cell[:, 2]
+        n_keys = int(np.prod(g))
         if loops is not None and n and 0 <= key.min() and key.max() < n_keys:
             # a compiled counting sort of the bins' keys: numpy's stable order of them, several times faster
             self.order, self.starts = loops[2](key, n_keys)
@@ -531,15 +537,15 @@ _LOOPS: list = []
 
 
 def _capsule_loops():
-    """``(capsules_at, capsule_gradients_at, bin_points)`` of `implicit.facet_prune_kernel`, or None without
-    numba."""
+    """``(capsules_at, capsule_gradients_at, bin_points, bin_keys, point_range)`` of
+    `implicit.facet_prune_kernel`, or None without numba."""
     if not _LOOPS:
         try:
-            from .facet_prune_kernel import bin_points, capsule_gradients_at, capsules_at
+            from .facet_prune_kernel import bin_keys, bin_points, capsule_gradients_at, capsules_at, point_range
         except ImportError:
             _LOOPS.append(None)
         else:
-            _LOOPS.append((capsules_at, capsule_gradients_at, bin_points))
+            _LOOPS.append((capsules_at, capsule_gradients_at, bin_points, bin_keys, point_range))
     return _LOOPS[0]
 
 

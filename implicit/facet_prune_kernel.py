@@ -22,7 +22,7 @@ import numpy as np
 
 from .primitive_kernels import _from_segment
 
-__all__ = ["bin_points", "capsule_gradients_at", "capsules_at", "first_best"]
+__all__ = ["bin_keys", "bin_points", "capsule_gradients_at", "capsules_at", "first_best", "point_range"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -99,3 +99,37 @@ def bin_points(key, n_keys):  # pragma: no cover - compiled
         order[count[b]] = i
         count[b] += 1
     return order, starts
+
+
+@numba.njit(cache=True, nogil=True)
+def point_range(p):  # pragma: no cover - compiled
+    """The smallest and largest coordinates of the points ``(3,), (3,)``, in one pass."""
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for j in range(3):
+        lo[j] = p[0, j]
+        hi[j] = p[0, j]
+    for i in range(p.shape[0]):
+        for j in range(3):
+            v = p[i, j]
+            if v < lo[j]:
+                lo[j] = v
+            if v > hi[j]:
+                hi[j] = v
+    return lo, hi
+
+
+@numba.njit(cache=True, nogil=True)
+def bin_keys(p, lo, scale, g):  # pragma: no cover - compiled
+    """Each point's bin ``(i * g1 + j) * g2 + k``, its cell along each axis ``min(int((x - lo) * scale),
+    g - 1)`` (numpy's ``astype(np.int64)`` truncates as this does)."""
+    key = np.empty(p.shape[0], np.int64)
+    for i in range(p.shape[0]):
+        k = np.int64(0)
+        for j in range(3):
+            c = np.int64((p[i, j] - lo[j]) * scale[j])
+            if c > g[j] - 1:
+                c = g[j] - 1
+            k = k * g[j] + c
+        key[i] = k
+    return key
