@@ -19,7 +19,7 @@ import math
 
 import numba
 
-__all__ = ["box_decide", "cylinder_decide", "sphere_values"]
+__all__ = ["box_decide", "cylinder_decide", "cylinder_decide_aligned", "sphere_values"]
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -78,23 +78,42 @@ def box_decide(p, c, h, rr, value, dec):  # pragma: no cover - compiled
         value[i] = outside + inside - rr
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _cylinder_at(q0, q1, q2, r, hh, value, dec, i):  # pragma: no cover - compiled
+    """`cylinder_decide` of one point, in the cylinder's frame."""
+    dr = math.hypot(q0, q1) - r
+    top, bottom = q2 - hh, -q2 - hh
+    best, k = dr, 0
+    if top > best:
+        k = 1
+    best = _maximum(best, top)
+    if bottom > best:
+        k = 2
+    dec[i] = k
+    dz = _maximum(top, bottom)
+    outside = math.hypot(_maximum(dr, 0.0), _maximum(dz, 0.0))
+    value[i] = outside + _minimum(_maximum(dr, dz), 0.0)
+
+
+@numba.njit(cache=True, nogil=True)
+def cylinder_decide_aligned(p, c, frame, r, hh, value, dec):  # pragma: no cover - compiled
+    """`cylinder_decide` of a cylinder whose frame's entries are 0, 1 or -1 (its axis along x, y or z),
+    from the points `p`: each local coordinate is one of ``p - c``'s, as numpy's product gives it (up to
+    the sign of a zero, which no value or facet below depends on: |x| and x - hh read it not)."""
+    for i in range(p.shape[0]):
+        d0, d1, d2 = p[i, 0] - c[0], p[i, 1] - c[1], p[i, 2] - c[2]
+        q0 = d0 * frame[0, 0] + d1 * frame[0, 1] + d2 * frame[0, 2]
+        q1 = d0 * frame[1, 0] + d1 * frame[1, 1] + d2 * frame[1, 2]
+        q2 = d0 * frame[2, 0] + d1 * frame[2, 1] + d2 * frame[2, 2]
+        _cylinder_at(q0, q1, q2, r, hh, value, dec, i)
+
+
 @numba.njit(cache=True, nogil=True)
 def cylinder_decide(q, r, hh, value, dec):  # pragma: no cover - compiled
     """A cylinder's field (radius `r`, half height `hh`) and deciding facet (0 wall, 1 top, 2 bottom)
     at the points `q` in its local frame (axis z), into `value` and `dec`."""
     for i in range(q.shape[0]):
-        dr = math.hypot(q[i, 0], q[i, 1]) - r
-        top, bottom = q[i, 2] - hh, -q[i, 2] - hh
-        best, k = dr, 0
-        if top > best:
-            k = 1
-        best = _maximum(best, top)
-        if bottom > best:
-            k = 2
-        dec[i] = k
-        dz = _maximum(top, bottom)
-        outside = math.hypot(_maximum(dr, 0.0), _maximum(dz, 0.0))
-        value[i] = outside + _minimum(_maximum(dr, dz), 0.0)
+        _cylinder_at(q[i, 0], q[i, 1], q[i, 2], r, hh, value, dec, i)
 
 
 @numba.njit(cache=True, nogil=True)

@@ -277,8 +277,13 @@ class FacetField:
                 loops.box_decide(np.ascontiguousarray(p), node._c, node._h, float(node._rr), value, dec)
                 return value, start + dec
             if kind == "cylinder":
-                q = (p - node._c) @ node._frame.T      # (numpy's product: the same bits)
-                loops.cylinder_decide(np.ascontiguousarray(q), float(node._r), float(node._hh), value, dec)
+                fr = node._frame
+                if np.all((fr == 0.0) | (fr == 1.0) | (fr == -1.0)):     # along x, y or z: no product needed
+                    loops.cylinder_decide_aligned(np.ascontiguousarray(p), node._c, np.ascontiguousarray(fr),
+                                                  float(node._r), float(node._hh), value, dec)
+                else:
+                    q = (p - node._c) @ fr.T      # (numpy's product: the same bits)
+                    loops.cylinder_decide(np.ascontiguousarray(q), float(node._r), float(node._hh), value, dec)
                 return value, start + dec
             if kind == "sphere":
                 loops.sphere_values(np.ascontiguousarray(p), node._c, float(node._r), value)

@@ -45,7 +45,9 @@ def test_compiled_leaves_decide_as_numpy_bit_for_bit(kind, monkeypatch):
 
     rng = np.random.default_rng(9)
     leaves = {"box": [box((1.5, 1.0, 0.5)), box(1.0, center=(0.25, -0.5, 0.125))],
-              "cylinder": [cylinder(0.5, 2.0), cylinder(0.5, 4, axis=(1, 0, 0)), cylinder(0.3, 1.0, axis=(1, 2, 3))],
+              "cylinder": [cylinder(0.5, 2.0), cylinder(0.5, 4, axis=(1, 0, 0)), cylinder(0.5, 4, axis=(0, -1, 0)),
+                           cylinder(0.25, 1.0, center=(0.5, 0.0, -0.25), axis=(0, 0, -1)),
+                           cylinder(0.3, 1.0, axis=(1, 2, 3))],
               "sphere": [sphere(1.0), sphere(0.75, center=(0.5, 0.25, 0.0))]}[kind]
     p = rng.uniform(-1.5, 1.5, (20000, 3))
     p[:8000] = np.round(p[:8000] * 8) / 8                   # on the faces' planes and edges: ties and zeros
