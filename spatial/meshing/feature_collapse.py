@@ -79,7 +79,7 @@ def collapse_fans(points, faces, n, cos_move=COS_MOVE):
 
 
 def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, dtype=np.int64,
-           overwrite_points=False, overwrite_faces=False):
+           overwrite_points=False, overwrite_faces=False, work=None):
     """The feature mesh's triangles: `faces` not in `drop`, then `new_faces`, with the fans collapsed.
 
     Parameters
@@ -106,6 +106,10 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
         view of them, where `faces` is a C-contiguous array of `dtype` with
         rows enough (each row is written after the rows it is read from);
         else into a new array.
+    work : (into, start), optional
+        Work arrays of ``p`` and ``p + 1`` integers, of the type the points'
+        count takes (int32 below 2**31 - 1 points, else int64), overwritten;
+        else they are made here.
 
     Returns
     -------
@@ -136,7 +140,11 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
     ix = np.int32 if n_p < 2 ** 31 - 1 else np.int64
     # (the points are gathered forwards, each to a row at or before its own: in place is safe)
     pout = p if overwrite_points or not renumber else np.empty((n_p, 3))
-    into, start = np.empty(n_p, ix), np.empty(n_p + 1, ix)
+    if work is not None and all(w.dtype == ix and w.flags.c_contiguous for w in work) and \
+            work[0].shape == (n_p,) and work[1].shape == (n_p + 1,):
+        into, start = work
+    else:
+        into, start = np.empty(n_p, ix), np.empty(n_p + 1, ix)
     local, source, n_near, dropped, used, c, n_out = _collapse_near(p, f, drop, new, np.int64(n), float(cos_move),
                                                                     into, start)
     if overwrite_faces and f is faces and f.dtype == dtype and n_out <= f.shape[0]:

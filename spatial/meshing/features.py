@@ -208,11 +208,14 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # (`index`: each vertex's row among the candidate cells' vertices, -1 for the others)
     # (the vertex normals' rows, once read, take the points of the fans: `room` has rows for the fans'
     # vertices beyond them, which are never touched unless used)
-    room, index = np.empty((n + n // ROOM + 256, 3)), np.empty(n, np.int32)
-    vn = room[:n]
-    work = np.empty(m + 1, np.int32 if m < 2 ** 31 else np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
+    # (`index` and the runs' starts, once read, are the collapses' work arrays: pages already touched)
+    room, spare = np.empty((n + n // ROOM + 256, 3)), np.empty(n + n // ROOM + 256, np.int32)
+    vn, index = room[:n], spare[:n]
+    ix = np.int32 if m < 2 ** 31 else np.int64
+    work = np.empty(m + 1, ix), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
                                                                  at_node, vn, *work, index)
+    runs = work[0]
     del work, at_node
     if cand.shape[0] == 0:
         return plain()
@@ -275,8 +278,11 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
     # corner of the fan that replaced the cell's triangles) is dropped
     n_all = newp.shape[0]
+    del exact, index
+    work = (spare[:n_all], runs[:n_all + 1]) if spare.shape[0] >= n_all and runs.shape[0] > n_all else None
     out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=own, overwrite_faces=overwrite,
-                                      dtype=np.int32 if n_all < 2 ** 31 else np.int64)
+                                      dtype=np.int32 if n_all < 2 ** 31 else np.int64, work=work)
+    del work, spare, runs
     # the feature vertices come last, in the order of their cells
     kept = used[n:]
     n_plain = newp.shape[0] - int(kept.sum())

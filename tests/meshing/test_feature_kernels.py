@@ -117,6 +117,13 @@ def test_finish_into_int32_and_in_place_is_the_same(captured):
     wide = faces.copy()
     kept = finish(pts, wide, drop, new, 36, dtype=np.int32, overwrite_faces=True)
     assert np.array_equal(kept[0], ref[0]) and np.array_equal(wide, faces)     # int64 rows are not int32's
+    # work arrays lent (of any content), or of the wrong type or size and then left alone: the same
+    lent = (np.full(40, 7, np.int32), np.full(41, -3, np.int32))
+    assert all(np.array_equal(a, b) for a, b in zip(finish(pts, faces, drop, new, 36, work=lent), ref))
+    assert not (lent[0] == 7).all() and not (lent[1] == -3).all()
+    wrong = (np.full(40, 7, np.int64), np.full(41, -3, np.int32))
+    assert all(np.array_equal(a, b) for a, b in zip(finish(pts, faces, drop, new, 36, work=wrong), ref))
+    assert (wrong[0] == 7).all() and (wrong[1] == -3).all()
     with pytest.raises(ValueError, match="overwrite_points"):
         finish(pts.astype(np.float32), faces, drop, new, 36, overwrite_points=True)
     with pytest.raises(ValueError, match="dtype"):
