@@ -42,9 +42,10 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
 The stages run as a few compiled functions (`feature_cells`: the node
 tests, the candidate cells found by runs of one cell's triangles and grouped
 by one hash probe per run and a counting sort; `feature_kernels`: the cells'
-faces, the QEF solved by Jacobi rotations per cell with the patch borders;
-`feature_collapse.finish`), between the calls into the solid's facets, which
-stay numpy.  Only the walks of stage 1 and of the collapse's output read every
+faces, the QEF solved by Jacobi rotations per cell with the patch borders, the
+fans with their flips and facing tests; `feature_collapse.finish`), between the
+calls into the solid's facets (`implicit.facets`: numpy walks of the tree, with
+compiled loops for its boxes, cylinders, spheres and runs of capsules).  Only the walks of stage 1 and of the collapse's output read every
 triangle; the rest grows with the candidate cells, and the exact normals and the
 QEF only with the cells not on one smooth facet (near the feature curves).  Their arrays over every vertex or triangle are made by the
 caller, as small as they can be (int8 axes, int32 indices and triangles, the
