@@ -31,7 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MAX_BINS_PER_AXIS", "POINTS_PER_BIN", "Bins", "facet_order", "pruned_decide", "subset_values"]
+__all__ = ["MAX_BINS_PER_AXIS", "POINTS_PER_BIN", "Bins", "Capsules", "facet_order", "leaf_loops", "operands",
+           "pruned_decide", "subset_values"]
 
 #: Target number of points per bin of the grid the walk is pruned on.
 POINTS_PER_BIN = 64
@@ -72,7 +73,10 @@ class Bins:
     def __init__(self, points, per_bin=POINTS_PER_BIN):
         p = np.asarray(points, dtype=np.float64)
         n = p.shape[0]
-        lo, hi = p.min(axis=0), p.max(axis=0)
+        loops = _capsule_loops()
+        fast = loops is not None and n > 0 and p.ndim == 2 and p.shape[1] == 3 and p.flags.c_contiguous
+        # (the compiled passes give the same keys: a zero's sign in the range changes no cell)
+        lo, hi = loops[4](p) if fast else (p.min(axis=0), p.max(axis=0))
         ext = hi - lo
         flat = ext <= 1e-9 * max(float(ext.max()), 1e-300)
         g = np.ones(3, dtype=np.int64)
@@ -80,11 +84,19 @@ class Bins:
             h = (float(np.prod(ext[~flat])) * per_bin / max(n, 1)) ** (1.0 / int((~flat).sum()))
             g[~flat] = np.clip(np.round(ext[~flat] / h), 1, MAX_BINS_PER_AXIS).astype(np.int64)
         scale = np.where(flat, 0.0, g / np.where(flat, 1.0, ext))
-        cell = np.minimum(((p - lo) * scale).astype(np.int64), g - 1)
-        key = (cell[:, 0] * g[1] + cell[:, 1]) * g[2] + cell[:, 2]
-        self.order = np.argsort(key, kind="stable")
-        ks = key[self.order]
-        self.starts = np.concatenate([[0], np.flatnonzero(ks[1:] != ks[:-1]) + 1, [n]]).astype(np.int64)
+        if fast:
+            key = loops[3](p, lo, scale, g)
+        else:
+            cell = np.minimum(((p - lo) * scale).astype(np.int64), g - 1)
+            key = (cell[:, 0] * g[1] + cell[:, 1]) * g[2] + cell[:, 2]
+        n_keys = int(np.prod(g))
+        if loops is not None and n and 0 <= key.min() and key.max() < n_keys:
+            # a compiled counting sort of the bins' keys: numpy's stable order of them, several times faster
+            self.order, self.starts = loops[2](key, n_keys)
+        else:
+            self.order = np.argsort(key, kind="stable")
+            ks = key[self.order]
+            self.starts = np.concatenate([[0], np.flatnonzero(ks[1:] != ks[:-1]) + 1, [n]]).astype(np.int64)
         self.sorted = np.ascontiguousarray(p[self.order])
         first = self.starts[:-1]
         self.lo = np.minimum.reduceat(self.sorted, first, axis=0)
@@ -288,15 +300,31 @@ class _Walk:
         values = np.empty(rows.shape[0])
         decs = np.empty(rows.shape[0], dtype=np.intp)
         negate = node.kind == "difference"
-        for j, child in enumerate(node.children):
-            a, b = int(row_at[j]), int(row_at[j + 1])
+        j = 0
+        for child in operands(self.ff, node):
+            if type(child) is Capsules:
+                # a run of capsule operands: one compiled loop over all their rows
+                k = len(child.children)
+                a, b = int(row_at[j]), int(row_at[j + k])
+                if b > a:
+                    which = np.repeat(np.arange(k), np.diff(row_at[j:j + k + 1]))
+                    child.values_at(p, rows[a:b], which, values[a:b])
+                    decs[a:b] = self.at + which
+                    if negate:
+                        seg, tool = values[a:b], (which + j) > 0
+                        seg[tool] = -seg[tool]
+                self.at += k
+                j += k
+                continue
+            i, j = j, j + 1
+            a, b = int(row_at[i]), int(row_at[j])
             if a == b:
                 self.skip(child)
                 continue
             if b - a == r:
                 q, sub = p, bsel
             else:
-                q, sub = np.ascontiguousarray(p[rows[a:b]]), bsel[bj[pair_at[j]:pair_at[j + 1]]]
+                q, sub = np.ascontiguousarray(p[rows[a:b]]), bsel[bj[pair_at[i]:pair_at[j]]]
             if child.kind not in _BOOLEANS + _PASS_THROUGH and self.ff._n_facets(child) == 1:
                 # a one-facet leaf (`FacetField._leaf_decide`'s own case, without its array of facet indices)
                 v = np.asarray(child._evaluate(q), dtype=np.float64)
@@ -305,7 +333,7 @@ class _Walk:
             else:
                 v, d = self.node(child, q, sub)
                 decs[a:b] = d
-            values[a:b] = -v if (j and negate) else v
+            values[a:b] = -v if (i and negate) else v
         cur = np.empty(r)
         dec = np.empty(r, dtype=np.intp)
         fold(rows, values, decs, node.kind == "union", cur, dec, np.zeros(r, dtype=np.bool_))
@@ -410,8 +438,11 @@ def _subset_walk(ff, node, p, rows, fac, v, counter):
         counter[0] += k
         return
     if kind in _BOOLEANS:
-        for c in node.children:
-            _subset_walk(ff, c, p, rows, fac, v, counter)
+        for c in operands(ff, node):
+            if type(c) is Capsules:
+                c.values(p, rows, fac, v, counter)
+            else:
+                _subset_walk(ff, c, p, rows, fac, v, counter)
     elif kind in ("complement", "family"):
         _subset_walk(ff, node.children[0], p, rows, fac, v, counter)
     elif kind == "affine":
@@ -429,3 +460,106 @@ def _subset_walk(ff, node, p, rows, fac, v, counter):
         fv = ff._leaf_values(node, np.ascontiguousarray(p[rows[lo:hi]]))
         v[lo:hi] = np.asarray(fv, dtype=np.float64)[fac[lo:hi] - start, np.arange(hi - lo)]
         counter[0] += k
+
+
+class Capsules:
+    """A run of consecutive capsule operands of one Boolean (a lattice's struts), evaluated by one
+    compiled loop over the rows of all of them (`implicit.facet_prune_kernel`) instead of a call
+    each: every row by the arithmetic of the capsule's own loop, so the same bits.  Each capsule
+    is one facet: the run's facets are consecutive, in the operands' order."""
+
+    __slots__ = ("children", "a", "ab", "ab2", "r")
+
+    def __init__(self, children):
+        self.children = list(children)
+        self.a = np.array([c._a for c in children], dtype=np.float64).reshape(-1, 3)
+        self.ab = np.array([c._ab for c in children], dtype=np.float64).reshape(-1, 3)
+        self.ab2 = np.array([c._ab2 for c in children], dtype=np.float64)
+        self.r = np.array([c._r for c in children], dtype=np.float64)
+
+    def values_at(self, p, rows, which, out):
+        """``out[k]``: capsule ``which[k]``'s field at ``p[rows[k]]``."""
+        _capsule_loops()[0](p, rows, which, self.a, self.ab, self.ab2, self.r, out)
+
+    def values(self, p, rows, fac, out, counter):
+        """`_subset_walk` over the run: the facets ``fac`` (sorted) asked at ``p[rows]`` into `out`."""
+        start = counter[0]
+        k = len(self.children)
+        lo, hi = np.searchsorted(fac, [start, start + k])
+        if hi > lo:
+            self.values_at(p, rows[lo:hi], fac[lo:hi] - start, out[lo:hi])
+        counter[0] += k
+
+    def gradients(self, p, rows, fac, g, counter):
+        """`implicit.facets.FacetField._grad_walk` over the run: gradients into the rows of `g`."""
+        start = counter[0]
+        k = len(self.children)
+        lo, hi = np.searchsorted(fac, [start, start + k])
+        if hi > lo:
+            _capsule_loops()[1](p, rows[lo:hi], fac[lo:hi] - start, self.a, self.ab, self.ab2, g[lo:hi])
+        counter[0] += k
+
+
+#: Consecutive capsule operands batched from this many on (one alone keeps its own call).
+MIN_CAPSULE_RUN = 2
+
+
+def operands(ff, node):
+    """The operands of the Boolean `node`, with each run of `MIN_CAPSULE_RUN` or more consecutive
+    capsules as one `Capsules` (cached on `ff`); its children as they are without the compiled loops."""
+    cache = ff.__dict__.setdefault("_operand_cache", {})
+    key = id(node)
+    if key in cache:
+        return cache[key]
+    from .primitives import Capsule, capsule_kernels
+
+    out: list = []
+    if _capsule_loops() is None or capsule_kernels() is None:
+        out = list(node.children)
+    else:
+        run: list = []
+        for c in list(node.children) + [None]:
+            if c is not None and type(c) is Capsule:
+                run.append(c)
+                continue
+            if len(run) >= MIN_CAPSULE_RUN:
+                out.append(Capsules(run))
+            else:
+                out.extend(run)
+            run = []
+            if c is not None:
+                out.append(c)
+    cache[key] = out
+    return out
+
+
+_LOOPS: list = []
+
+
+def _capsule_loops():
+    """``(capsules_at, capsule_gradients_at, bin_points, bin_keys, point_range)`` of
+    `implicit.facet_prune_kernel`, or None without numba."""
+    if not _LOOPS:
+        try:
+            from .facet_prune_kernel import bin_keys, bin_points, capsule_gradients_at, capsules_at, point_range
+        except ImportError:
+            _LOOPS.append(None)
+        else:
+            _LOOPS.append((capsules_at, capsule_gradients_at, bin_points, bin_keys, point_range))
+    return _LOOPS[0]
+
+
+_LEAF_LOOPS: list = []
+
+
+def leaf_loops():
+    """The module `implicit.facet_leaf_kernel` (a box's, a cylinder's and a sphere's field and deciding
+    facet by one compiled loop each), or None without numba (then numpy evaluates them)."""
+    if not _LEAF_LOOPS:
+        try:
+            from . import facet_leaf_kernel
+        except ImportError:
+            _LEAF_LOOPS.append(None)
+        else:
+            _LEAF_LOOPS.append(facet_leaf_kernel)
+    return _LEAF_LOOPS[0]

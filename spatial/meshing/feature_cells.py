@@ -69,7 +69,8 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, r
     third = 1.0 / 3.0
     n_runs = 0
     for t in range(m):
-        a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
+        # (unsigned indices: numba then skips the wrap-around test of negative ones at every access)
+        a, b, c = np.uint64(faces[t, 0]), np.uint64(faces[t, 1]), np.uint64(faces[t, 2])
         cx, cy, cz = _tri_normal(pts, a, b, c)
         vn[a, 0] += cx; vn[a, 1] += cy; vn[a, 2] += cz
         vn[b, 0] += cx; vn[b, 1] += cy; vn[b, 2] += cz
@@ -91,19 +92,24 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, r
     for q in range(n_runs):
         for t in range(run_start[q], run_start[q + 1]):
             # (the triangle's normal again, the same bits: cheaper than storing every one)
-            cx, cy, cz = _tri_normal(pts, faces[t, 0], faces[t, 1], faces[t, 2])
+            a, b, c = np.uint64(faces[t, 0]), np.uint64(faces[t, 1]), np.uint64(faces[t, 2])
+            cx, cy, cz = _tri_normal(pts, a, b, c)
             r = np.sqrt(cx ** 2 + cy ** 2 + cz ** 2)
             if r > 0:
                 # the smallest cosine is the smallest dot product over `r` (rounding is monotone: the same
                 # bits as the smallest of the three quotients), one division instead of three
                 low = np.inf
-                for k in range(3):
-                    v = faces[t, k]
-                    d = cx * vn[v, 0] + cy * vn[v, 1] + cz * vn[v, 2]
-                    if d < low:
-                        low = d
+                d = cx * vn[a, 0] + cy * vn[a, 1] + cz * vn[a, 2]
+                if d < low:
+                    low = d
+                d = cx * vn[b, 0] + cy * vn[b, 1] + cz * vn[b, 2]
+                if d < low:
+                    low = d
+                d = cx * vn[c, 0] + cy * vn[c, 1] + cz * vn[c, 2]
+                if d < low:
+                    low = d
                 worst = min(1.0, low / r)
-                n_node = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
+                n_node = at_node[a] + at_node[b] + at_node[c]
                 # a triangle joining a node vertex to an ordinary one is the border of such a face: the
                 # crossings on lattice edges lying in the face's plane are undefined there, and the chamfer
                 # they leave may bend less than the normals' test sees

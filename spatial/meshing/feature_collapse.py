@@ -79,7 +79,7 @@ def collapse_fans(points, faces, n, cos_move=COS_MOVE):
 
 
 def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, dtype=np.int64,
-           overwrite_points=False, overwrite_faces=False):
+           overwrite_points=False, overwrite_faces=False, work=None):
     """The feature mesh's triangles: `faces` not in `drop`, then `new_faces`, with the fans collapsed.
 
     Parameters
@@ -106,6 +106,10 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
         view of them, where `faces` is a C-contiguous array of `dtype` with
         rows enough (each row is written after the rows it is read from);
         else into a new array.
+    work : (into, start), optional
+        Work arrays of ``p`` and ``p + 1`` integers, of the type the points'
+        count takes (int32 below 2**31 - 1 points, else int64), overwritten;
+        else they are made here.
 
     Returns
     -------
@@ -136,7 +140,11 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
     ix = np.int32 if n_p < 2 ** 31 - 1 else np.int64
     # (the points are gathered forwards, each to a row at or before its own: in place is safe)
     pout = p if overwrite_points or not renumber else np.empty((n_p, 3))
-    into, start = np.empty(n_p, ix), np.empty(n_p + 1, ix)
+    if work is not None and all(w.dtype == ix and w.flags.c_contiguous for w in work) and \
+            work[0].shape == (n_p,) and work[1].shape == (n_p + 1,):
+        into, start = work
+    else:
+        into, start = np.empty(n_p, ix), np.empty(n_p + 1, ix)
     local, source, n_near, dropped, used, c, n_out = _collapse_near(p, f, drop, new, np.int64(n), float(cos_move),
                                                                     into, start)
     if overwrite_faces and f is faces and f.dtype == dtype and n_out <= f.shape[0]:
@@ -288,8 +296,8 @@ def _collapse(p, faces, n, near, cos_move, into, start):
     dist = np.empty(64)
     # the buffers of `_can_collapse`, made once (an allocation per trial cost a third of the pass)
     tv = np.empty(128, np.int64)
-    tf = np.empty(128, np.int64)
     common = np.empty(16, np.int64)
+    nb = np.empty(3 * tri.shape[0], np.int64)
     c = 0
     for fv in range(n, n_p):
         # ordinary neighbours of the feature vertex, nearest first
@@ -317,9 +325,23 @@ def _collapse(p, faces, n, near, cos_move, into, start):
                         ring[i] = w
                         dist[i] = d
                         k += 1
+        # the feature vertex's neighbours (each corner of its live star, mapped), read by every trial
+        n_nb = 0
+        for q in range(n_t):
+            t = tri[q]
+            for j in range(3):
+                w = into[faces[t, j]]
+                dup = False
+                for i in range(n_nb):
+                    if nb[i] == w:
+                        dup = True
+                        break
+                if not dup and n_nb < nb.shape[0]:
+                    nb[n_nb] = w
+                    n_nb += 1
         for i in range(k):
             v = ring[i]
-            if _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move, tv, tf, common):
+            if _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move, tv, nb, n_nb, common):
                 n_t = _live_star(star, start, dropped, v, tri)
                 for q in range(n_t):
                     t = tri[q]
@@ -344,22 +366,22 @@ def _live_star(star, start, dropped, x, out):
     return k
 
 
-@numba.njit(cache=True, nogil=True)
-def _holds(faces, into, tris, count, w):
-    """Whether one of the first `count` triangles `tris` has a corner that maps (`into`) to vertex `w`."""
+@numba.njit(cache=True, nogil=True, inline="always")
+def _among(values, count, w):
+    """Whether `w` is one of the first `count` `values` (a feature vertex's neighbours: whether one of
+    its live triangles has a corner that maps to `w`)."""
     for s in range(count):
-        u = tris[s]
-        if into[faces[u, 0]] == w or into[faces[u, 1]] == w or into[faces[u, 2]] == w:
+        if values[s] == w:
             return True
     return False
 
 
 @numba.njit(cache=True, nogil=True)
-def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move, tv, tf, common):
+def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move, tv, nb, n_nb, common):
     """Whether moving `v` onto the feature vertex `fv` (and dropping their two triangles) is safe
-    (`tv`, `tf`, `common`: buffers of 128, 128 and 16)."""
+    (`tv`, `common`: buffers of 128 and 16; the first `n_nb` of `nb` are the distinct corners of the live
+    star of `fv`, mapped)."""
     n_v = _live_star(star, start, dropped, v, tv)
-    n_f = _live_star(star, start, dropped, fv, tf)
     # `v` must join a vertex beyond the fans (a face's plain mesh: a speck made of fans alone can be
     # turned inside out by collapses that each turn its triangles little); and no feature vertex that
     # `fv` does not join already, so that the edges between feature vertices (the feature curves) stay
@@ -371,7 +393,7 @@ def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move
             w = into[faces[t, j]]
             if not near[w]:
                 beyond = True
-            if w >= n and w != fv and not _holds(faces, into, tf, n_f, w):
+            if w >= n and w != fv and not _among(nb, n_nb, w):
                 return False
     if not beyond:
         return False
@@ -390,7 +412,7 @@ def _can_collapse(p, faces, star, start, dropped, into, near, n, v, fv, cos_move
             w = into[faces[t, j]]
             if w == v or w == fv:
                 continue
-            if _holds(faces, into, tf, n_f, w):
+            if _among(nb, n_nb, w):
                 new = True
                 for i in range(n_common):
                     if common[i] == w:

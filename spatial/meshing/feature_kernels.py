@@ -7,35 +7,40 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _faces_badly(points, a, b, c, normal, index, n, min_facing):
+    """Whether triangle (a, b, c) is degenerate or does not face its ordinary vertices' exact normals
+    (`_facing_kernel`'s test of one triangle)."""
+    ux = points[b, 0] - points[a, 0]; uy = points[b, 1] - points[a, 1]; uz = points[b, 2] - points[a, 2]
+    vx = points[c, 0] - points[a, 0]; vy = points[c, 1] - points[a, 1]; vz = points[c, 2] - points[a, 2]
+    cx = uy * vz - uz * vy; cy = uz * vx - ux * vz; cz = ux * vy - uy * vx
+    area2 = np.sqrt(cx * cx + cy * cy + cz * cz)
+    wx = points[a, 0] - points[c, 0]; wy = points[a, 1] - points[c, 1]; wz = points[a, 2] - points[c, 2]
+    zx = points[c, 0] - points[b, 0]; zy = points[c, 1] - points[b, 1]; zz = points[c, 2] - points[b, 2]
+    scale = max(ux * ux + uy * uy + uz * uz, zx * zx + zy * zy + zz * zz, wx * wx + wy * wy + wz * wz)
+    if area2 <= 1e-6 * scale:
+        return True
+    bad = False
+    best = -np.inf
+    for k in range(3):
+        v = a if k == 0 else (b if k == 1 else c)
+        if v < n:
+            e = index[v]
+            cos = (cx * normal[e, 0] + cy * normal[e, 1] + cz * normal[e, 2]) / area2
+            if cos < -min_facing:
+                bad = True
+            if cos > best:
+                best = cos
+    return bad or best < min_facing
+
+
 @numba.njit(cache=True, nogil=True)
 def _facing_kernel(points, faces, normal, index, n, min_facing):
     """`features._facing_badly`; the exact normal of ordinary vertex ``v`` is ``normal[index[v]]``."""
     m = faces.shape[0]
     bad = np.zeros(m, np.bool_)
     for t in range(m):
-        a, b, c = faces[t, 0], faces[t, 1], faces[t, 2]
-        ux = points[b, 0] - points[a, 0]; uy = points[b, 1] - points[a, 1]; uz = points[b, 2] - points[a, 2]
-        vx = points[c, 0] - points[a, 0]; vy = points[c, 1] - points[a, 1]; vz = points[c, 2] - points[a, 2]
-        cx = uy * vz - uz * vy; cy = uz * vx - ux * vz; cz = ux * vy - uy * vx
-        area2 = np.sqrt(cx * cx + cy * cy + cz * cz)
-        wx = points[a, 0] - points[c, 0]; wy = points[a, 1] - points[c, 1]; wz = points[a, 2] - points[c, 2]
-        zx = points[c, 0] - points[b, 0]; zy = points[c, 1] - points[b, 1]; zz = points[c, 2] - points[b, 2]
-        scale = max(ux * ux + uy * uy + uz * uz, zx * zx + zy * zy + zz * zz, wx * wx + wy * wy + wz * wz)
-        if area2 <= 1e-6 * scale:
-            bad[t] = True
-            continue
-        best = -np.inf
-        for k in range(3):
-            v = faces[t, k]
-            if v < n:
-                e = index[v]
-                cos = (cx * normal[e, 0] + cy * normal[e, 1] + cz * normal[e, 2]) / area2
-                if cos < -min_facing:
-                    bad[t] = True
-                if cos > best:
-                    best = cos
-        if best < min_facing:
-            bad[t] = True
+        bad[t] = _faces_badly(points, faces[t, 0], faces[t, 1], faces[t, 2], normal, index, n, min_facing)
     return bad
 
 
@@ -347,3 +352,117 @@ def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, open_cells
         edge[c] = rank[c] >= 2
     b0, b1, bc, disc = _cell_borders(faces, tri, tcell, edge, pts.shape[0])
     return x, rank, b0, b1, bc, disc
+
+
+@numba.njit(cache=True, nogil=True)
+def _fan_rows(b0, b1, bc, feature, n, x, newp):
+    """The fans of the `feature` cells over their border edges ``(b0, b1)`` (cell `bc`): the triangles
+    ``(k, 3)``, their cells ``(k, 2)`` (the second -1), the fanned cells and each triangle's undirected
+    edge key ``min * n + max``; the feature vertices go into ``newp[n:]`` (``x`` of the fanned cells, in
+    their order; the rows before are the caller's)."""
+    n_cells = feature.shape[0]
+    n_fan = 0
+    vid = np.full(n_cells, -1, np.int64)
+    for c in range(n_cells):
+        if feature[c]:
+            vid[c] = n + n_fan
+            n_fan += 1
+    fan_cells = np.empty(n_fan, np.int64)
+    for c in range(n_cells):
+        if feature[c]:
+            i = vid[c] - n
+            fan_cells[i] = c
+            for j in range(3):
+                newp[n + i, j] = x[c, j]
+    r = 0
+    for e in range(bc.shape[0]):
+        r += feature[bc[e]]
+    fan = np.empty((r, 3), np.int64)
+    owner = np.empty((r, 2), np.int64)
+    ekey = np.empty(r, np.int64)
+    k = 0
+    for e in range(bc.shape[0]):
+        c = bc[e]
+        if feature[c]:
+            a, b = b0[e], b1[e]
+            fan[k, 0], fan[k, 1], fan[k, 2] = a, b, vid[c]
+            owner[k, 0], owner[k, 1] = c, -1
+            ekey[k] = min(a, b) * n + max(a, b)
+            k += 1
+    return fan, owner, fan_cells, ekey
+
+
+@numba.njit(cache=True, nogil=True)
+def _flip_fans(fan, owner, ekey, order, n, n_cells, normal, index, newp, cos_sharp, min_facing):
+    """The flips between the fans of `_fan_rows` (in place), and which of the triangles face badly.
+
+    A border edge shared by two fans whose ends' exact normals differ
+    (``cos < cos_sharp``) is flipped to join the two feature vertices, where
+    no other such edge joins them and both new triangles face well: the
+    twins are the consecutive equal keys in `order` (``np.argsort(ekey,
+    kind="stable")``).
+    """
+    r = fan.shape[0]
+    pi = np.empty(r, np.int64)
+    pj = np.empty(r, np.int64)
+    fk = np.empty(r, np.int64)
+    n_pairs = 0
+    span = n + n_cells
+    for t in range(r - 1):
+        i, j = order[t], order[t + 1]
+        if ekey[i] != ekey[j]:
+            continue
+        ea, eb = index[fan[i, 0]], index[fan[i, 1]]
+        # (numpy's einsum of three products sums the first and last, then the middle: the same bits)
+        d = (normal[ea, 0] * normal[eb, 0] + normal[ea, 2] * normal[eb, 2]) + normal[ea, 1] * normal[eb, 1]
+        if d < cos_sharp:
+            f1, f2 = fan[i, 2], fan[j, 2]
+            pi[n_pairs], pj[n_pairs] = i, j
+            fk[n_pairs] = min(f1, f2) * span + max(f1, f2)
+            n_pairs += 1
+    # a pair of feature vertices joined by one such edge only
+    by = np.argsort(fk[:n_pairs], kind="mergesort")
+    single = np.zeros(n_pairs, np.bool_)
+    t = 0
+    while t < n_pairs:
+        u = t
+        while u < n_pairs and fk[by[u]] == fk[by[t]]:
+            u += 1
+        if u - t == 1:
+            single[by[t]] = True
+        t = u
+    # (a, b, F1) and (b, a, F2) become (a, F2, F1) and (F2, b, F1) where both face well
+    # (all from the fans as made, then written as numpy's fancy assignments would: every first triangle,
+    # then every second, then the owners likewise; a twin in two pairs takes the last)
+    flips = np.zeros((n_pairs, 6), np.int64)
+    good = np.zeros(n_pairs, np.bool_)
+    for q in range(n_pairs):
+        if not single[q]:
+            continue
+        i, j = pi[q], pj[q]
+        a, b, f1, f2 = fan[i, 0], fan[i, 1], fan[i, 2], fan[j, 2]
+        if not (_faces_badly(newp, a, f2, f1, normal, index, n, min_facing)
+                or _faces_badly(newp, f2, b, f1, normal, index, n, min_facing)):
+            good[q] = True
+            flips[q, 0], flips[q, 1], flips[q, 2], flips[q, 3] = a, b, f1, f2
+            flips[q, 4], flips[q, 5] = owner[i, 0], owner[j, 0]
+    for q in range(n_pairs):
+        if good[q]:
+            i = pi[q]
+            fan[i, 0], fan[i, 1], fan[i, 2] = flips[q, 0], flips[q, 3], flips[q, 2]
+    for q in range(n_pairs):
+        if good[q]:
+            j = pj[q]
+            fan[j, 0], fan[j, 1], fan[j, 2] = flips[q, 3], flips[q, 1], flips[q, 2]
+    for q in range(n_pairs):
+        if good[q]:
+            i = pi[q]
+            owner[i, 0], owner[i, 1] = flips[q, 4], flips[q, 5]
+    for q in range(n_pairs):
+        if good[q]:
+            j = pj[q]
+            owner[j, 0], owner[j, 1] = flips[q, 4], flips[q, 5]
+    bad = np.empty(r, np.bool_)
+    for t in range(r):
+        bad[t] = _faces_badly(newp, fan[t, 0], fan[t, 1], fan[t, 2], normal, index, n, min_facing)
+    return bad

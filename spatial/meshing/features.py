@@ -42,9 +42,10 @@ holds two or three distinct faces, in the way of Extended Marching Cubes:
 The stages run as a few compiled functions (`feature_cells`: the node
 tests, the candidate cells found by runs of one cell's triangles and grouped
 by one hash probe per run and a counting sort; `feature_kernels`: the cells'
-faces, the QEF solved by Jacobi rotations per cell with the patch borders;
-`feature_collapse.finish`), between the calls into the solid's facets, which
-stay numpy.  Only the walks of stage 1 and of the collapse's output read every
+faces, the QEF solved by Jacobi rotations per cell with the patch borders, the
+fans with their flips and facing tests; `feature_collapse.finish`), between the
+calls into the solid's facets (`implicit.facets`: numpy walks of the tree, with
+compiled loops for its boxes, cylinders, spheres and runs of capsules).  Only the walks of stage 1 and of the collapse's output read every
 triangle; the rest grows with the candidate cells, and the exact normals and the
 QEF only with the cells not on one smooth facet (near the feature curves).  Their arrays over every vertex or triangle are made by the
 caller, as small as they can be (int8 axes, int32 indices and triangles, the
@@ -90,7 +91,7 @@ import numpy as np
 
 from .feature_collapse import finish
 from .feature_cells import _cells, _nodes
-from .feature_kernels import _cell_faces, _facing_kernel, _newton_step, _solve_cells
+from .feature_kernels import _cell_faces, _facing_kernel, _fan_rows, _flip_fans, _newton_step, _solve_cells
 
 __all__ = ["sharpen", "sharp_polydata", "sharp_polydata_lent", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
 
@@ -208,11 +209,14 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # (`index`: each vertex's row among the candidate cells' vertices, -1 for the others)
     # (the vertex normals' rows, once read, take the points of the fans: `room` has rows for the fans'
     # vertices beyond them, which are never touched unless used)
-    room, index = np.empty((n + n // ROOM + 256, 3)), np.empty(n, np.int32)
-    vn = room[:n]
-    work = np.empty(m + 1, np.int32 if m < 2 ** 31 else np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
+    # (`index` and the runs' starts, once read, are the collapses' work arrays: pages already touched)
+    room, spare = np.empty((n + n // ROOM + 256, 3)), np.empty(n + n // ROOM + 256, np.int32)
+    vn, index = room[:n], spare[:n]
+    ix = np.int32 if m < 2 ** 31 else np.int64
+    work = np.empty(m + 1, ix), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
                                                                  at_node, vn, *work, index)
+    runs = work[0]
     del work, at_node
     if cand.shape[0] == 0:
         return plain()
@@ -258,8 +262,8 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     else:
         room = None
     for _ in range(ROUNDS):
-        new_faces, owner, fan_cells, newp = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x, room)
-        bad = _facing_badly(newp, new_faces, exact, n)
+        new_faces, owner, fan_cells, newp, bad = _fans_and_flips(pts, exact, (b0, b1, bc), feature, n, n_cells, x,
+                                                                 room)
         if not bad.any():
             break
         gone = np.unique(owner[bad].reshape(-1))
@@ -275,8 +279,11 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # vertex; a vertex no triangle uses (that, or marching cubes' inner vertex of an ambiguous cube, no
     # corner of the fan that replaced the cell's triangles) is dropped
     n_all = newp.shape[0]
+    del exact, index
+    work = (spare[:n_all], runs[:n_all + 1]) if spare.shape[0] >= n_all and runs.shape[0] > n_all else None
     out_faces, used, _, newp = finish(newp, f, drop, new_faces, n, overwrite_points=own, overwrite_faces=overwrite,
-                                      dtype=np.int32 if n_all < 2 ** 31 else np.int64)
+                                      dtype=np.int32 if n_all < 2 ** 31 else np.int64, work=work)
+    del work, spare, runs
     # the feature vertices come last, in the order of their cells
     kept = used[n:]
     n_plain = newp.shape[0] - int(kept.sum())
@@ -353,7 +360,7 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     k = 3
     sets = labels[rows]
     used = np.arange(k)[None, :] < rank[rows][:, None]
-    idx = np.where(used, sets, 0)
+    idx = np.where(used, sets, -1)       # (an unused slot asks no facet: values and gradients 0 there)
     q = x[rows].copy()
     q, jac = _newton(ff, q, idx, used, h, NEWTON_STEPS)
     # an edge point outside the cell slides along the curve's tangent into the cell (one more step puts it
@@ -426,52 +433,30 @@ def _fans_and_flips(pts, exact, borders, feature, n, n_cells, x, room=None):
     """Fans of the feature cells (whose patch is one disc: `_cell_borders`), and the flips between them.
 
     Returns the new triangles, for each the cells it came from (two for a
-    flipped pair, the second -1 otherwise) as ``owner`` (k, 2), and the cells
-    that received a vertex (vertex ``n + i`` is cell ``fan_cells[i]``) and
-    the points with those vertices appended (in the rows of `room` from
-    ``n`` on, when given: an array holding the points in its first rows,
-    with rows enough).  A flip is made only where both of its triangles
-    face their ordinary vertices' normals.
+    flipped pair, the second -1 otherwise) as ``owner`` (k, 2), the cells
+    that received a vertex (vertex ``n + i`` is cell ``fan_cells[i]``), the
+    points with those vertices appended (in the rows of `room` from ``n``
+    on, when given: an array holding the points in its first rows, with
+    rows enough) and which new triangles face badly (`_facing_badly`).  A
+    flip is made only where both of its triangles face their ordinary
+    vertices' normals.  Two compiled calls (`feature_kernels._fan_rows`, `_flip_fans`).
     """
     b0, b1, bc = borders
-    keep = feature[bc]
-    if not keep.any():
-        return np.empty((0, 3), np.int64), np.empty((0, 2), np.int64), np.empty(0, np.int64), pts
-    b0, b1, bc = b0[keep], b1[keep], bc[keep]
-    fan_cells = np.flatnonzero(feature)
-    vid = np.full(n_cells, -1, np.int64)
-    vid[fan_cells] = n + np.arange(fan_cells.shape[0])
-    fan = np.stack([b0, b1, vid[bc]], axis=1)
-    owner = np.stack([bc, np.full(bc.shape[0], -1, np.int64)], axis=1)
-    # flips: a border edge shared by two fans whose ends lie on different faces
-    ekey = np.minimum(b0, b1) * np.int64(n) + np.maximum(b0, b1)
-    order = np.argsort(ekey, kind="stable")
-    ks = ekey[order]
-    twin = np.flatnonzero(ks[1:] == ks[:-1])
-    i, j = order[twin], order[twin + 1]
-    normal, index = exact
-    differ = np.einsum("ij,ij->i", normal[index[b0[i]]], normal[index[b1[i]]]) < COS_SHARP
-    i, j = i[differ], j[differ]
-    fk = np.minimum(fan[i, 2], fan[j, 2]) * np.int64(n + n_cells) + np.maximum(fan[i, 2], fan[j, 2])
-    uk, cnt = np.unique(fk, return_counts=True)
-    single = cnt[np.searchsorted(uk, fk)] == 1
-    i, j = i[single], j[single]
+    n_fan = int(np.count_nonzero(feature))
+    if n_fan == 0:
+        return (np.empty((0, 3), np.int64), np.empty((0, 2), np.int64), np.empty(0, np.int64), pts,
+                np.empty(0, np.bool_))
     if room is not None:
-        newp = room[:n + fan_cells.shape[0]]
-        newp[n:] = x[fan_cells]
+        newp = room[:n + n_fan]
     else:
-        newp = np.concatenate([pts, x[fan_cells]])
-    # (a, b, F1) and (b, a, F2) become (a, F2, F1) and (F2, b, F1)
-    a_, b_, f1, f2 = fan[i, 0], fan[i, 1], fan[i, 2], fan[j, 2]
-    t1, t2 = np.stack([a_, f2, f1], axis=1), np.stack([f2, b_, f1], axis=1)
-    good = ~(_facing_badly(newp, t1, exact, n) | _facing_badly(newp, t2, exact, n))
-    i, j, t1, t2 = i[good], j[good], t1[good], t2[good]
-    fan[i] = t1
-    fan[j] = t2
-    both = np.stack([owner[i, 0], owner[j, 0]], axis=1)
-    owner[i] = both
-    owner[j] = both
-    return fan, owner, fan_cells, newp
+        newp = np.empty((n + n_fan, 3))
+        newp[:n] = pts
+    normal, index = exact
+    fan, owner, fan_cells, ekey = _fan_rows(b0, b1, bc, feature, n, x, newp)
+    # (numpy's stable sort of the nearly sorted keys, its runs those of the cells, is the fastest way here)
+    order = np.argsort(ekey, kind="stable")
+    bad = _flip_fans(fan, owner, ekey, order, n, n_cells, normal, index, newp, COS_SHARP, MIN_FACING)
+    return fan, owner, fan_cells, newp, bad
 
 
 def _facing_badly(points, faces, exact, n):

@@ -138,16 +138,25 @@ def test_bins_hold_every_point_once_in_tight_boxes():
 
 @pytest.fixture
 def capsule_points(monkeypatch):
-    """A counter of the points at which capsules are evaluated, by their own field."""
+    """A counter of the points at which capsules are evaluated, by their own field or in a run of
+    capsules (`implicit.facet_prune.Capsules`: one compiled loop over the rows of several)."""
+    import implicit.facet_prune as fp
+
     count = [0]
     kind = type(capsule((0, 0, 0), (1, 0, 0), 0.1))
     evaluate = kind._evaluate
+    values_at = fp.Capsules.values_at
 
     def counted(self, p):
         count[0] += len(p)
         return evaluate(self, p)
 
+    def counted_rows(self, p, rows, which, out):
+        count[0] += len(rows)
+        return values_at(self, p, rows, which, out)
+
     monkeypatch.setattr(kind, "_evaluate", counted)
+    monkeypatch.setattr(fp.Capsules, "values_at", counted_rows)
     return count
 
 
@@ -214,3 +223,65 @@ def test_bounds_per_bin_read_the_operands_from_the_tape(capsule_points):
     assert len(keeps) == len(want) == 2
     assert all(np.array_equal(a, b) for a, b in zip(keeps, want))
     assert 0 < keeps[1].sum() < keeps[1].size / 10            # a few capsules a bin, not all 300
+
+
+def test_runs_of_capsules_are_the_per_capsule_walks_bit_for_bit(monkeypatch):
+    """Consecutive capsule operands evaluated by one loop over their rows (`Capsules`): the same values,
+    deciding facets and gradients as a call per capsule, in unions, intersections and differences whose
+    base or tools are runs of capsules, beside operands of other kinds."""
+    import implicit.facet_prune as fp
+
+    rng = np.random.default_rng(7)
+
+    def caps(k, shift):
+        a = rng.uniform(-1.0, 1.0, (k, 3)) + shift
+        return [capsule(tuple(x), tuple(x + rng.uniform(-0.8, 0.8, 3)), float(rng.uniform(0.1, 0.4))) for x in a]
+
+    struts = union(*caps(6, 0.0), sphere(0.3), *caps(5, 0.2), box(0.4, center=(0.5, 0.0, 0.0)))
+    holes = caps(4, -0.1)
+    solid = (union(*caps(3, 0.3), *caps(2, -0.3)) - holes[0] - holes[1]) | (struts & union(*caps(4, 0.0)))
+    solid = solid - rotate(union(*holes[2:]), 30.0, axis=(0.0, 0.0, 1.0))
+    d = caps(3, 0.1)
+    solid = solid | (d[0] - d[1] - d[2])              # a run of capsules holding the base and the tools
+    p = _points(11, 6000)
+    ff = FacetField(solid)
+    runs = [len(c.children) for node in _booleans(solid) for c in fp.operands(ff, node) if type(c) is fp.Capsules]
+    assert sorted(runs) == [2, 2, 3, 4, 5, 5, 6]
+    which = rng.integers(-1, len(ff.names) + 1, (p.shape[0], 3))
+    got = pruned_decide(ff, p) + (ff.values_of(p, which), ff.gradients_of(p, which))
+    plain = FacetField(solid)
+    monkeypatch.setattr(fp, "operands", lambda ff, node: list(node.children))
+    monkeypatch.setattr("implicit.facets.operands", lambda ff, node: list(node.children))
+    want = pruned_decide(plain, p) + (plain.values_of(p, which), plain.gradients_of(p, which))
+    v0, d0 = plain._walk_decide(plain.solid, p, [0])
+    assert np.array_equal(got[0], v0) and np.array_equal(got[1], d0)
+    for a, b in zip(got, want):
+        assert np.array_equal(a, b)
+    assert len(set(d0.tolist())) > 15                      # many capsules decide somewhere
+
+
+def _booleans(node):
+    out = [node] if node.kind in ("union", "intersection", "difference") else []
+    for c in node.children:
+        out += _booleans(c)
+    return out
+
+
+def test_bins_by_the_compiled_counting_sort_are_numpys(monkeypatch):
+    """`Bins` sorted by the compiled counting sort (`facet_prune_kernel.bin_points`) and by numpy's stable
+    argsort: the same order, bins, sorted points and boxes."""
+    import implicit.facet_prune as fp
+
+    p = _points(5, 20000)
+    p[:3000] = np.round(p[:3000])                       # many equal coordinates, zeros of both signs
+    p[:1500] *= -1.0
+    for per_bin in (1, 16, 64, 5000):
+        got = fp.Bins(p, per_bin)
+        with monkeypatch.context() as m:
+            m.setattr(fp, "_capsule_loops", lambda: None)
+            want = fp.Bins(p, per_bin)
+        for name in ("order", "starts", "sorted", "lo", "hi"):
+            a, b = getattr(got, name), getattr(want, name)
+            assert a.dtype == b.dtype and np.array_equal(a, b)
+            assert np.array_equal(np.signbit(a), np.signbit(b))
+    assert got.starts.shape[0] > 2 and fp.Bins(p, 16).starts.shape[0] > 500

@@ -117,6 +117,13 @@ def test_finish_into_int32_and_in_place_is_the_same(captured):
     wide = faces.copy()
     kept = finish(pts, wide, drop, new, 36, dtype=np.int32, overwrite_faces=True)
     assert np.array_equal(kept[0], ref[0]) and np.array_equal(wide, faces)     # int64 rows are not int32's
+    # work arrays lent (of any content), or of the wrong type or size and then left alone: the same
+    lent = (np.full(40, 7, np.int32), np.full(41, -3, np.int32))
+    assert all(np.array_equal(a, b) for a, b in zip(finish(pts, faces, drop, new, 36, work=lent), ref))
+    assert not (lent[0] == 7).all() and not (lent[1] == -3).all()
+    wrong = (np.full(40, 7, np.int64), np.full(41, -3, np.int32))
+    assert all(np.array_equal(a, b) for a, b in zip(finish(pts, faces, drop, new, 36, work=wrong), ref))
+    assert (wrong[0] == 7).all() and (wrong[1] == -3).all()
     with pytest.raises(ValueError, match="overwrite_points"):
         finish(pts.astype(np.float32), faces, drop, new, 36, overwrite_points=True)
     with pytest.raises(ValueError, match="dtype"):
@@ -173,3 +180,66 @@ def test_fans_points_in_the_normals_rows_or_appended_are_the_same(captured, monk
     assert tight["feature_cells"] == roomy["feature_cells"] > 256
     for key in ("points", "faces", "feature_rank", "feature_facets"):
         assert np.array_equal(tight[key], roomy[key])
+
+
+def _fans_and_flips_numpy(pts, exact, borders, feature, n, n_cells, x):
+    """The fans and flips as numpy formulates them (the reference of `features._fans_and_flips`)."""
+    from spatial.meshing.features import COS_SHARP, _facing_badly
+
+    b0, b1, bc = borders
+    keep = feature[bc]
+    b0, b1, bc = b0[keep], b1[keep], bc[keep]
+    fan_cells = np.flatnonzero(feature)
+    vid = np.full(n_cells, -1, np.int64)
+    vid[fan_cells] = n + np.arange(fan_cells.shape[0])
+    fan = np.stack([b0, b1, vid[bc]], axis=1)
+    owner = np.stack([bc, np.full(bc.shape[0], -1, np.int64)], axis=1)
+    ekey = np.minimum(b0, b1) * np.int64(n) + np.maximum(b0, b1)
+    order = np.argsort(ekey, kind="stable")
+    ks = ekey[order]
+    twin = np.flatnonzero(ks[1:] == ks[:-1])
+    i, j = order[twin], order[twin + 1]
+    normal, index = exact
+    differ = np.einsum("ij,ij->i", normal[index[b0[i]]], normal[index[b1[i]]]) < COS_SHARP
+    i, j = i[differ], j[differ]
+    fk = np.minimum(fan[i, 2], fan[j, 2]) * np.int64(n + n_cells) + np.maximum(fan[i, 2], fan[j, 2])
+    uk, cnt = np.unique(fk, return_counts=True)
+    single = cnt[np.searchsorted(uk, fk)] == 1
+    i, j = i[single], j[single]
+    newp = np.concatenate([pts, x[fan_cells]])
+    a_, b_, f1, f2 = fan[i, 0], fan[i, 1], fan[i, 2], fan[j, 2]
+    t1, t2 = np.stack([a_, f2, f1], axis=1), np.stack([f2, b_, f1], axis=1)
+    good = ~(_facing_badly(newp, t1, exact, n) | _facing_badly(newp, t2, exact, n))
+    i, j, t1, t2 = i[good], j[good], t1[good], t2[good]
+    fan[i] = t1
+    fan[j] = t2
+    both = np.stack([owner[i, 0], owner[j, 0]], axis=1)
+    owner[i] = both
+    owner[j] = both
+    return fan, owner, fan_cells, newp, _facing_badly(newp, fan, exact, n), int(good.sum())
+
+
+@pytest.mark.parametrize("part", ["benchmark", "lattice"])
+def test_compiled_fans_and_flips_are_numpys(part, monkeypatch):
+    """`_fans_and_flips` (two compiled calls around numpy's stable sort) against the numpy formulation,
+    on every round of the pass over the benchmark part and a lattice of capsules (many flips)."""
+    from parts import capsule_lattice
+
+    from spatial.meshing import features
+
+    solid = benchmark_part() if part == "benchmark" else capsule_lattice(2)[0]
+    calls = []
+    real = features._fans_and_flips
+
+    def spy(pts, exact, borders, feature, n, n_cells, x, room=None):
+        want = _fans_and_flips_numpy(pts, exact, borders, feature, n, n_cells, x)
+        got = real(pts, exact, borders, feature, n, n_cells, x, room)
+        # (compared at once: the points are in the pass's own rows, which later stages overwrite)
+        calls.append(([np.array_equal(a, b) for a, b in zip(got, want[:5])], want[5]))
+        return got
+
+    monkeypatch.setattr(features, "_fans_and_flips", spy)
+    mesh(solid, resolution=64, progress=False)
+    assert calls
+    for same, flips in calls:
+        assert all(same) and flips > 20                     # flips made in every round
