@@ -10,8 +10,9 @@ import numpy as np
 
 from .saddles import break_ties_marked
 from .arrays import _evaluate, _nudge, _release_free_memory, _settle_ties
-from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, index_positions, infer_around,
-                      needed_nodes, node_ids, node_points, paint_parents, put_sampled, ring_to_nodes, take_block)
+from .kernels import (block_box_held, block_boxes, count_needed, index_positions, infer_around, needed_nodes,
+                      paint_parents, put_sampled, ring_to_nodes, take_block_held)
+from .slab_kernels import first_pass, merged_nodes, second_pass, slab_samples
 
 __all__ = []
 
@@ -22,6 +23,9 @@ NEEDED, POSITIVE, NEGATIVE = 1, 2, 4
 _NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                         if (i, j, k) != (0, 0, 0)], dtype=np.int64)
 _NEIGHBOUR_DIST = np.sqrt((_NEIGHBOURS ** 2).sum(axis=1))
+
+# An empty handoff (the first slab, or one after a gap).
+_NO_IDS, _NO_VALUES, _NO_SIGNS = np.empty(0, np.int64), np.empty(0, np.float32), np.empty(0, np.int8)
 
 
 class _SlabJob:
@@ -171,14 +175,9 @@ class _SlabJob:
         maybe = np.empty(n_need, dtype=np.bool_)
         upper = np.empty(n_need, dtype=np.bool_)
         needed_nodes(codes, B, flat, s_n, maybe, upper)
-        top = np.flatnonzero(upper)  # the upper x plane, handed to the next slab
-        del upper, codes
+        del codes
         y_base = (self.bys * B).astype(np.int64)
         z_base = (self.bzs * B).astype(np.int64)
-
-        def ids(rows):
-            return node_ids(flat, rows, B, int(x0), y_base, z_base, int(stride))
-
         v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
         if sampled:
             # nodes already sampled (never on a block face) hold their values: found through the
@@ -190,70 +189,46 @@ class _SlabJob:
                 put_sampled(flat, where, b_, x_, y_, z_, v, B + 1, v_n)
             del where
         del sampled
-        m_idx = np.flatnonzero(maybe)
-        uniq, ufirst, back = np.unique(ids(m_idx), return_index=True, return_inverse=True)
-        s_u = np.zeros(uniq.shape[0], dtype=np.int8)
-        s_m = s_n[m_idx]
-        s_u[back[s_m != 0]] = s_m[s_m != 0]
-        v_u = np.full(uniq.shape[0], np.nan, dtype=np.float32)
+        # -- the nodes two blocks may share, merged by id; what the previous slab learned of them --
         if handoff is not None and handoff[0] == self.slab - 1 and handoff[1].size:
             pid, pval, psgn = handoff[1], handoff[2], handoff[3]
-            pos = np.minimum(np.searchsorted(pid, uniq), pid.size - 1)
-            hit = pid[pos] == uniq
-            v_u[hit] = pval[pos[hit]]
-            s_u[hit] |= psgn[pos[hit]]
-        del s_m
-        single = ~maybe
+        else:
+            pid, pval, psgn = _NO_IDS, _NO_VALUES, _NO_SIGNS
+        origin = np.asarray(self.origin, dtype=np.float64)
+        m_idx, ufirst, back, s_u, v_u = merged_nodes(flat, maybe, s_n, B, int(x0), y_base, z_base, int(stride),
+                                                     pid, pval, psgn)
         spent = 0
 
-        def sample(sel_single, sel_unique):
-            """Evaluate the chosen single nodes and unique merged nodes in one call."""
-            pick = np.concatenate([np.flatnonzero(sel_single), m_idx[ufirst[sel_unique]]])
-            pts = node_points(flat, pick, B, int(x0), y_base, z_base, np.asarray(self.origin, dtype=np.float64), h)
-            if not pick.shape[0]:
-                return np.empty(0, np.float32), np.empty(0, np.float32), 0
+        def sample(pts, k):
+            """Values (float32, nudged, ties settled) at `pts`, split after the first `k`, and the
+            evaluations spent."""
+            if not pts.shape[0]:
+                return _NO_VALUES, _NO_VALUES, 0
             vals = _evaluate(self.solid, pts)
             probes = _settle_ties(self.solid, pts, vals, h)
             vals = _nudge(vals, h).astype(np.float32)
-            k = int(np.count_nonzero(sel_single))
-            return vals[:k], vals[k:], int(pick.shape[0]) + probes
+            return vals[:k], vals[k:], int(pts.shape[0]) + probes
 
         # -- pass 1: nodes of unknown sign ---------------------------------------------------
-        t1 = single & (s_n == 0)
-        t1u = s_u == 0
-        a, b, n = sample(t1, t1u)
+        rows, ru, pts = first_pass(flat, maybe, s_n, m_idx, ufirst, s_u, B, int(x0), y_base, z_base, origin, h)
+        a, b, n = sample(pts, rows.shape[0])
         spent += n
-        v_n[t1] = a
-        v_u[t1u] = b
-        s_n[t1] = np.where(a < 0, -1, 1)
-        s_u[t1u] = np.where(b < 0, -1, 1)
-        s_n[m_idx] = s_u[back]
-        v_n[m_idx] = v_u[back]
-        del t1, t1u, a, b
         # -- pass 2: the ends of crossing edges without a value -------------------------------
         # (before marching cubes, which resolves its ambiguous faces and cubes from the values)
         # (the codes are spent: their memory holds the signs)
-        w_n = crossing_ends(code.reshape(-1).view(np.int8), flat, s_n, v_n, B)
-        del code
-        w_u = np.zeros(uniq.shape[0], dtype=bool)
-        w_u[back[w_n[m_idx]]] = True
-        w_s = w_n & single
-        del w_n
-        a, b, n = sample(w_s, w_u)
+        rows, ru, pts = second_pass(a, b, rows, ru, flat, maybe, s_n, v_n, m_idx, ufirst, back, s_u, v_u,
+                                    code.reshape(-1).view(np.int8), B, int(x0), y_base, z_base, origin, h)
+        del code, a, b
+        a, b, n = sample(pts, rows.shape[0])
         spent += n
-        v_n[w_s] = a
-        v_u[w_u] = b
-        v_n[m_idx] = v_u[back]
-        del w_s, w_u, a, b
+        del pts
         # -- marching cubes: a sign-only node gets +-L h, an unused node 1 ------------------
+        # (the upper plane goes to the next slab: values NaN where only the sign is known)
         scale = np.float32(self.lip * h if self.lip else h)
         values = _take(self.scratch, "values", (self.nb * (B + 1) ** 3,), np.float32)
-        fill_values(values, flat, v_n, s_n, scale)
-        del v_u
-        # the upper plane goes to the next slab (values NaN where only the sign is known)
-        hid, first = np.unique(ids(top), return_index=True)
-        handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
-        return cells, values.reshape(self.nb, B + 1, B + 1, B + 1), spent, handoff
+        hid, hval, hsgn = slab_samples(a, b, rows, ru, flat, v_n, s_n, m_idx, back, v_u, values, scale, upper, B,
+                                       int(x0), y_base, z_base, int(stride))
+        return cells, values.reshape(self.nb, B + 1, B + 1, B + 1), spent, (self.slab, hid, hval, hsgn)
 
     def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
         """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
@@ -279,7 +254,6 @@ class _SlabJob:
         scratch = self.scratch if self.scratch is not None else _Scratch()
         buf = scratch.buffers(self.capacity_hint)
         # one block's mask at a time, built in place (no slab of voxels, no per-block arrays)
-        flat_vol = np.empty(0, np.float32)   # (`block_input` copies no samples here)
         flat_mask = _take(scratch, "mask", ((B + 1) ** 3,), np.bool_)
         # the marks of `break_ties_marked`: cleared once, left clear by every block
         flat_marks = scratch.marks((B + 1) ** 3)
@@ -293,15 +267,15 @@ class _SlabJob:
             size = shape[0] * shape[1] * shape[2]
             # the box as a view of the slab's samples: scikit-image's kernel reads strided boxes as it
             # reads contiguous ones (the same output), so no box is copied
-            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask, False)
             vol = values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1]
-            # contacts fuse (saddles.py)
-            vol = break_ties_marked(vol, flat_marks[:size].reshape(shape))
+            if block_box_held(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_mask, flat_marks):
+                # contacts fuse (saddles.py): the marked corners deepened in a copy, the marks cleared
+                vol = break_ties_marked(vol, flat_marks[:size].reshape(shape))
             verts, tri = _marching_cubes_raw(vol, flat_mask[:size].reshape(shape))
             if verts.shape[0] == 0 or tri.shape[0] == 0:
                 continue
             buf.reserve(verts.shape[0], tri.shape[0] // 3)
-            buf.vat, buf.fat, buf.eat = take_block(
+            buf.vat, buf.fat, buf.eat = take_block_held(
                 verts, tri, values, b, xs, ys, zs, B, x0, gy, gz, stride, buf.node, buf.axis,
                 buf.f0, buf.f1, buf.shared, buf.edge, buf.faces, buf.vat, buf.fat, buf.eat)
         if buf.vat == 0:
