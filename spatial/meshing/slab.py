@@ -10,22 +10,37 @@ import numpy as np
 
 from .saddles import break_ties_marked
 from .arrays import _evaluate, _nudge, _release_free_memory, _settle_ties
-from .kernels import (block_box_held, block_boxes, count_needed, index_positions, infer_around, needed_nodes,
-                      paint_parents, put_sampled, ring_to_nodes, take_block_held)
-from .slab_kernels import first_pass, merged_nodes, second_pass, slab_samples
+from .kernels import block_box_held, block_boxes, count_needed, take_block_held
+from .slab_kernels import first_pass, merged_nodes, second_pass, slab_blocks, slab_codes, slab_needed, slab_samples
 
 __all__ = []
-
-# Bits of a node's code while a slab is sampled.
-NEEDED, POSITIVE, NEGATIVE = 1, 2, 4
 
 # Offsets from a cell's centre node to the other 26 nodes of a cell of 2 voxels, by distance (in h).
 _NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                         if (i, j, k) != (0, 0, 0)], dtype=np.int64)
 _NEIGHBOUR_DIST = np.sqrt((_NEIGHBOURS ** 2).sum(axis=1))
 
-# An empty handoff (the first slab, or one after a gap).
+# An empty handoff (the first slab, or one after a gap), and the other empty inputs of the kernels.
 _NO_IDS, _NO_VALUES, _NO_SIGNS = np.empty(0, np.int64), np.empty(0, np.float32), np.empty(0, np.int8)
+_NO_ROWS, _NO_WHERE = np.empty(0, np.int64), np.empty(0, np.int32)
+
+
+def _rows_or_none(pair, index_type=np.int32, value_type=np.int8):
+    """``(rows (k, 3), values (k,))`` of a ring, or empty ones for None."""
+    if pair is None:
+        return np.empty((0, 3), index_type), np.empty(0, value_type)
+    return pair
+
+
+_STEPS = {}
+
+
+def _steps(B):
+    """Flat offsets from a node to its 26 neighbours in a block's ``(B+1)^3`` array."""
+    if B not in _STEPS:
+        n = B + 1
+        _STEPS[B] = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1).astype(np.int64)
+    return _STEPS[B]
 
 
 class _SlabJob:
@@ -50,27 +65,9 @@ class _SlabJob:
         self.scratch = None  # a `_Scratch` lent by `run_slabs` (None: fresh arrays)
 
     # -- the parts -------------------------------------------------------------------------
-    def _blocks(self, sc):
-        P = self.P
-        by = sc[:, 1] // P
-        bz = sc[:, 2] // P
-        # the keys are few (nbz**2): unique keys and inverse by counting instead of sorting
-        key = by * self.nbz + bz
-        present = np.bincount(key, minlength=self.nbz * self.nbz) > 0
-        keys = np.flatnonzero(present).astype(key.dtype)
-        rank = np.cumsum(present) - 1
-        inv = rank[key]
-        self.keys = keys
-        self.bys, self.bzs = np.divmod(keys, self.nbz)
-        self.nb = keys.shape[0]
-        self.cl = (inv, sc[:, 0] - self.slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P)
-        cells = np.zeros((self.nb, P, P, P), dtype=bool)
-        cells[self.cl] = True
-        return cells
-
     def _needed(self, cells):
-        """Nodes of the cells, for cells without a ring of known neighbours (`_node_codes` serves
-        cells of 2 voxels): a separable dilation (each axis: repeat c times, OR a shift by one)."""
+        """Nodes of the cells, for cells without a ring of known neighbours (`slab_kernels.slab_codes`
+        serves cells of 2 voxels): a separable dilation (each axis: repeat c times, OR a shift by one)."""
         c = self.c
         need = cells
         for ax in (1, 2, 3):
@@ -87,86 +84,37 @@ class _SlabJob:
             need = grown
         return need
 
-    def _node_codes(self, sc, ring, ring_parents=None):
-        """What each node of the slab's blocks is known to be, ``(nb, B+1, B+1, B+1)`` uint8 (cells of 2 voxels).
-
-        Bit `NEEDED` marks the nodes of boundary cells, `POSITIVE` / `NEGATIVE`
-        the sign given by a uniform cell holding the node.  A block's nodes
-        are held by the cells of its ring ``[-1, P]`` (local cell coordinates,
-        P cells per side), read from the slab's cell states over the y/z span
-        of its active blocks; the codes go from cells to nodes by an OR, which
-        keeps every bit since the signs of uniform cells agree.
-        """
-        P = self.P
-        y0, y1 = int(self.bys.min()) * P - 1, (int(self.bys.max()) + 1) * P + 1
-        z0, z1 = int(self.bzs.min()) * P - 1, (int(self.bzs.max()) + 1) * P + 1
-        xc = self.slab * P - 1
-        state = np.zeros((P + 2, y1 - y0, z1 - z0), dtype=np.uint8)
-        if ring_parents is not None and ring_parents[0].shape[0]:
-            # uniform cells twice as large, each over its 8 children
-            paint_parents(state, ring_parents[0], ring_parents[1], xc, y0, z0, np.uint8(NEGATIVE), np.uint8(POSITIVE))
-        if ring is not None and ring[0].shape[0]:
-            idx, sgn = ring
-            sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
-            state[idx[sel, 0] - xc, idx[sel, 1] - y0, idx[sel, 2] - z0] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
-        state[sc[:, 0] - xc, sc[:, 1] - y0, sc[:, 2] - z0] = NEEDED
-        out = _take(self.scratch, "code", (self.nb,) + (2 * P + 1,) * 3, np.uint8)
-        ring_to_nodes(state, (self.bys * P - 1 - y0).astype(np.int64), (self.bzs * P - 1 - z0).astype(np.int64), P,
-                      out)
-        return out
-
-    def _known_in_blocks(self, extra):
-        """Block-local positions of already sampled nodes strictly inside an active block."""
-        B = self.B
-        idx, val = extra
-        by, ly = np.divmod(idx[:, 1], B)
-        bz, lz = np.divmod(idx[:, 2], B)
-        key = by * self.nbz + bz
-        pos = np.minimum(np.searchsorted(self.keys, key), self.nb - 1)
-        hit = (self.keys[pos] == key) & (ly != 0) & (lz != 0)
-        return pos[hit], idx[hit, 0] - self.x0, ly[hit], lz[hit], val[hit]
-
-    def _infer_around(self, code, b_, x_, y_, z_, v):
-        """Signs of the 26 neighbours of sampled nodes ``v`` farther than ``d`` from the level (``|v| > L d``).
-
-        Written as `POSITIVE` / `NEGATIVE` bits into the node codes.  The
-        sampled nodes lie strictly inside their block, so every neighbour is
-        a node of the same block.
-        """
-        n = self.B + 1
-        gs = np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
-        mag = np.abs(v)
-        base = ((b_.astype(np.int64) * n + x_) * n + y_) * n + z_
-        flat = code.reshape(-1)
-        step = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1)
-        # float32 values: a margin for their rounding
-        thresholds = np.empty(step.shape[0], dtype=np.float32)
+    def _thresholds(self):
+        """Per neighbour of a sampled node (`_NEIGHBOURS`), the distance to the level past which the
+        node's sign is the neighbour's: ``L d h`` (float32 values: a margin for their rounding)."""
+        thresholds = np.empty(_NEIGHBOURS.shape[0], dtype=np.float32)
         for d in np.unique(_NEIGHBOUR_DIST):
             thresholds[_NEIGHBOUR_DIST == d] = np.float32(self.lip * d * self.h * (1 + 1e-6))
-        infer_around(flat, base, gs, mag, step.astype(np.int64), thresholds)
+        return thresholds
 
     def prepare(self, sc, given, ring, centre_infer, handoff, extra=None):
         """Sample the slab's nodes: ``(cells, values (nb, B+1, B+1, B+1), evaluations, handoff)``,
         what `mesh` takes.  Needs only the previous slab's handoff, not its mesh, so the next slab
         can be prepared while this one is meshed."""
         B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
-        cells = self._blocks(sc)
-        code = self._node_codes(sc, *ring) if c == 2 else self._needed(cells).view(np.uint8)
-        sampled = []  # (block, x, y, z, value) of nodes already sampled
-        if given is not None:
-            b_, x_, y_, z_ = self.cl
-            sampled.append((b_, 2 * x_ + 1, 2 * y_ + 1, 2 * z_ + 1, given))
-        if extra is not None and extra[0].shape[0]:
-            sampled.append(self._known_in_blocks(extra))
-        for b_, x_, y_, z_, v in sampled:
-            if centre_infer:
-                self._infer_around(code, b_, x_, y_, z_, v)
-            else:
-                code[b_, x_, y_, z_] |= np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
-        # -- the needed nodes as a list, with global ids -----------------------------------
-        # (one compiled pass over the codes: positions, signs, and where the nodes lie in their block)
-        codes = code.reshape(-1)
-        n_need = count_needed(codes)
+        keys, inv, lx, ly, lz, cells = slab_blocks(sc, int(self.slab), int(P), int(self.nbz))
+        self.keys, self.nb, self.cl = keys, keys.shape[0], (inv, lx, ly, lz)
+        self.bys, self.bzs = np.divmod(keys, self.nbz)
+        if c == 2:
+            # one compiled call: the codes from the ring, the signs the samples give, the needed count
+            code = _take(self.scratch, "code", (self.nb,) + (2 * P + 1,) * 3, np.uint8)
+            (ring_idx, ring_sgn), (par_idx, par_sgn) = (_rows_or_none(r) for r in ring)
+            extra_idx, extra_val = _rows_or_none(extra, np.int64, np.float32)
+            eb, ex, ey, ez, ev, n_need = slab_codes(
+                sc, inv, lx, ly, lz, keys, int(self.nbz), int(self.slab), int(P), ring_idx, ring_sgn, par_idx,
+                par_sgn, _NO_VALUES if given is None else given, extra_idx, extra_val, bool(centre_infer),
+                _steps(B), self._thresholds() if centre_infer else _NO_VALUES, code)
+        else:
+            code = self._needed(cells).view(np.uint8)
+            eb = ex = ey = ez = _NO_ROWS
+            ev = _NO_VALUES
+            n_need = count_needed(code.reshape(-1))
+        # -- the needed nodes as a list, with their values where already sampled -----------------
         # positions within the slab's arrays fit 32 bits: halves the memory of the node lists
         itype = np.int32 if code.size < 2 ** 31 else np.int64
         flat = np.empty(n_need, dtype=itype)
@@ -174,21 +122,16 @@ class _SlabJob:
         # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
         maybe = np.empty(n_need, dtype=np.bool_)
         upper = np.empty(n_need, dtype=np.bool_)
-        needed_nodes(codes, B, flat, s_n, maybe, upper)
-        del codes
+        # nodes already sampled (never on a block face) hold their values: found through the row of
+        # every needed node at its position, written into the slab's samples array (not filled before
+        # `slab_samples` below; 32-bit rows fit it)
+        sampled = given is not None or eb.shape[0]
+        where = _take(self.scratch, "values", (code.size,), np.float32).view(np.int32) if sampled else _NO_WHERE
+        v_n = slab_needed(code.reshape(-1), B, flat, s_n, maybe, upper, inv, lx, ly, lz,
+                          _NO_VALUES if given is None else given, eb, ex, ey, ez, ev, where)
+        del where, eb, ex, ey, ez, ev
         y_base = (self.bys * B).astype(np.int64)
         z_base = (self.bzs * B).astype(np.int64)
-        v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
-        if sampled:
-            # nodes already sampled (never on a block face) hold their values: found through the
-            # row of every needed node at its position, written into the slab's samples array (not
-            # filled before `fill_values` below; 32-bit rows fit it)
-            where = _take(self.scratch, "values", (code.size,), np.float32).view(np.int32)
-            index_positions(flat, where)
-            for b_, x_, y_, z_, v in sampled:
-                put_sampled(flat, where, b_, x_, y_, z_, v, B + 1, v_n)
-            del where
-        del sampled
         # -- the nodes two blocks may share, merged by id; what the previous slab learned of them --
         if handoff is not None and handoff[0] == self.slab - 1 and handoff[1].size:
             pid, pval, psgn = handoff[1], handoff[2], handoff[3]

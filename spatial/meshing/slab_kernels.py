@@ -19,7 +19,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .kernels import crossing_ends, fill_values, node_ids, node_points
+from .kernels import (crossing_ends, fill_values, index_positions, needed_nodes, node_ids, node_points,
+                      paint_parents, put_sampled, ring_to_nodes)
 
 __all__ = []
 
@@ -61,6 +62,159 @@ def _rows_where(mask):
             out[j] = i
             j += 1
     return out
+
+
+# Bits of a node's code while a slab is sampled.
+_NEEDED, _POSITIVE, _NEGATIVE = 1, 2, 4
+
+
+@numba.njit(cache=True, nogil=True)
+def slab_blocks(sc, slab, P, nbz):
+    """The slab's active blocks from its cells `sc` (lattice units of cells, ``P`` per block side).
+
+    Returns ``(keys, inv, lx, ly, lz, cells)``: the blocks' keys ``by * nbz + bz`` in increasing
+    order, each cell's block and its position in it, and the blocks' ``(nb, P, P, P)`` cell
+    occupancy.  The keys are few (``nbz**2``): found by counting, not sorting.
+    """
+    n = sc.shape[0]
+    present = np.zeros(nbz * nbz, np.bool_)
+    for i in range(n):
+        present[(sc[i, 1] // P) * nbz + sc[i, 2] // P] = True
+    rank = np.empty(nbz * nbz, np.int64)
+    nb = 0
+    for k in range(nbz * nbz):
+        rank[k] = nb
+        nb += present[k]
+    keys = np.empty(nb, np.int64)
+    for k in range(nbz * nbz):
+        if present[k]:
+            keys[rank[k]] = k
+    inv = np.empty(n, np.int64)
+    lx = np.empty(n, np.int64)
+    ly = np.empty(n, np.int64)
+    lz = np.empty(n, np.int64)
+    cells = np.zeros((nb, P, P, P), np.bool_)
+    for i in range(n):
+        by = sc[i, 1] // P
+        bz = sc[i, 2] // P
+        b = rank[by * nbz + bz]
+        inv[i] = b
+        lx[i] = sc[i, 0] - slab * P
+        ly[i] = sc[i, 1] - by * P
+        lz[i] = sc[i, 2] - bz * P
+        cells[b, lx[i], ly[i], lz[i]] = True
+    return keys, inv, lx, ly, lz, cells
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _known_sign(flat, base, v, infer, steps, thresholds):
+    """OR the sign bit of a sampled node's value `v` into its code (flat position `base`) and, with
+    `infer`, into those of the neighbours it is farther from the level than (`kernels.infer_around`)."""
+    g = np.uint8(_NEGATIVE) if v < 0 else np.uint8(_POSITIVE)
+    if infer:
+        m = abs(v)
+        for o in range(steps.shape[0]):
+            if m > thresholds[o]:
+                flat[base + steps[o]] |= g
+    flat[base] |= g
+
+
+@numba.njit(cache=True, nogil=True)
+def slab_codes(sc, inv, lx, ly, lz, keys, nbz, slab, P, ring_idx, ring_sgn, par_idx, par_sgn, given, extra_idx,
+               extra_val, infer, steps, thresholds, code):
+    """What each node of the slab's blocks is known to be, into `code` ``(nb, 2P+1, 2P+1, 2P+1)``
+    uint8 (cells of 2 voxels), and which sampled nodes lie in the blocks.
+
+    Bit `_NEEDED` marks the nodes of boundary cells, `_POSITIVE` / `_NEGATIVE` a known sign: from a
+    uniform cell of the ring ``(ring_idx, ring_sgn)`` holding the node (cells twice as large
+    ``(par_idx, par_sgn)`` over their children first), the codes going from cells to nodes by an
+    OR (`ring_to_nodes`); then from the samples at the cells' centres `given` (none when empty)
+    and the sampled nodes ``(extra_idx, extra_val)`` strictly inside an active block, each with
+    its neighbours when `infer` (`_known_sign`).  Returns the latter as ``(b, x, y, z, value)``
+    block-local rows, and the number of needed nodes.
+    """
+    nb = keys.shape[0]
+    B = 2 * P
+    n1 = B + 1
+    by_lo, by_hi = keys[0] // nbz, keys[0] // nbz
+    bz_lo, bz_hi = keys[0] % nbz, keys[0] % nbz
+    for k in range(nb):
+        by_lo = min(by_lo, keys[k] // nbz)
+        by_hi = max(by_hi, keys[k] // nbz)
+        bz_lo = min(bz_lo, keys[k] % nbz)
+        bz_hi = max(bz_hi, keys[k] % nbz)
+    y0, y1 = by_lo * P - 1, (by_hi + 1) * P + 1
+    z0, z1 = bz_lo * P - 1, (bz_hi + 1) * P + 1
+    xc = slab * P - 1
+    state = np.zeros((P + 2, y1 - y0, z1 - z0), np.uint8)
+    if par_idx.shape[0]:
+        paint_parents(state, par_idx, par_sgn, xc, y0, z0, np.uint8(_NEGATIVE), np.uint8(_POSITIVE))
+    for i in range(ring_idx.shape[0]):
+        y = np.int64(ring_idx[i, 1])
+        z = np.int64(ring_idx[i, 2])
+        if y0 <= y < y1 and z0 <= z < z1:
+            state[np.int64(ring_idx[i, 0]) - xc, y - y0, z - z0] = _NEGATIVE if ring_sgn[i] < 0 else _POSITIVE
+    for i in range(sc.shape[0]):
+        state[sc[i, 0] - xc, sc[i, 1] - y0, sc[i, 2] - z0] = _NEEDED
+    ry0 = np.empty(nb, np.int64)
+    rz0 = np.empty(nb, np.int64)
+    for k in range(nb):
+        ry0[k] = (keys[k] // nbz) * P - 1 - y0
+        rz0[k] = (keys[k] % nbz) * P - 1 - z0
+    ring_to_nodes(state, ry0, rz0, P, code)
+    flat = code.reshape(-1)
+    for j in range(given.shape[0]):
+        base = ((inv[j] * n1 + 2 * lx[j] + 1) * n1 + 2 * ly[j] + 1) * n1 + 2 * lz[j] + 1
+        _known_sign(flat, base, given[j], infer, steps, thresholds)
+    # the sampled nodes strictly inside an active block (never on a y/z block face)
+    m = extra_idx.shape[0]
+    hit = np.zeros(m, np.bool_)
+    pos = np.empty(m, np.int64)
+    k = 0
+    for j in range(m):
+        key = (extra_idx[j, 1] // B) * nbz + extra_idx[j, 2] // B
+        p = min(np.searchsorted(keys, key), nb - 1)
+        pos[j] = p
+        if keys[p] == key and extra_idx[j, 1] % B != 0 and extra_idx[j, 2] % B != 0:
+            hit[j] = True
+            k += 1
+    eb = np.empty(k, np.int64)
+    ex = np.empty(k, np.int64)
+    ey = np.empty(k, np.int64)
+    ez = np.empty(k, np.int64)
+    ev = np.empty(k, extra_val.dtype)
+    k = 0
+    for j in range(m):
+        if hit[j]:
+            eb[k] = pos[j]
+            ex[k] = extra_idx[j, 0] - slab * B
+            ey[k] = extra_idx[j, 1] % B
+            ez[k] = extra_idx[j, 2] % B
+            ev[k] = extra_val[j]
+            k += 1
+    for j in range(k):
+        _known_sign(flat, ((eb[j] * n1 + ex[j]) * n1 + ey[j]) * n1 + ez[j], ev[j], infer, steps, thresholds)
+    n = 0
+    for q in range(flat.shape[0]):
+        n += flat[q] & 1
+    return eb, ex, ey, ez, ev, n
+
+
+@numba.njit(cache=True, nogil=True)
+def slab_needed(code, B, flat, s_n, maybe, upper, inv, lx, ly, lz, given, eb, ex, ey, ez, ev, where):
+    """The needed nodes of the slab's flat codes (`needed_nodes`, into arrays sized by `slab_codes`)
+    and their values where already sampled -- at the cells' centres `given` (none when empty), then
+    the nodes ``(eb, ex, ey, ez, ev)`` -- found through the flat scratch `where` (`put_sampled`):
+    returns ``v_n`` (NaN where not sampled)."""
+    needed_nodes(code, B, flat, s_n, maybe, upper)
+    v_n = np.full(flat.shape[0], np.nan, np.float32)
+    if given.shape[0] or eb.shape[0]:
+        index_positions(flat, where)
+        if given.shape[0]:
+            put_sampled(flat, where, inv, 2 * lx + 1, 2 * ly + 1, 2 * lz + 1, given, B + 1, v_n)
+        if eb.shape[0]:
+            put_sampled(flat, where, eb, ex, ey, ez, ev, B + 1, v_n)
+    return v_n
 
 
 @numba.njit(cache=True, nogil=True)
