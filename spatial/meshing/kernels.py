@@ -506,13 +506,9 @@ _TIES = _saddles._kernel()
 
 
 @numba.njit(cache=True)
-def block_box_held(values, cells, b, xs, ys, zs, nx, ny, nz, c, mask, marks):
-    """`block_input`'s mask of block `b`'s box (no values copied) and the tie finder's marks of its
-    samples (`saddles`), in one call that keeps the interpreter's lock; returns the ties found."""
+def block_mask_held(values, cells, b, xs, ys, zs, nx, ny, nz, c, mask):
+    """`block_input`'s mask of block `b`'s box (no values copied), keeping the interpreter's lock."""
     block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, values.reshape(-1)[:0], mask, False)
-    shape = (nx + 1, ny + 1, nz + 1)
-    size = shape[0] * shape[1] * shape[2]
-    return _TIES(values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1], marks[:size].reshape(shape))
 
 
 @numba.njit(cache=True)
@@ -521,3 +517,26 @@ def take_block_held(verts, tri, values, b, xs, ys, zs, B, gx, gy, gz, stride, no
     """`take_block`, keeping the interpreter's lock."""
     return take_block(verts, tri, values, b, xs, ys, zs, B, gx, gy, gz, stride, node, axis, f0, f1, shared,
                       edge, faces, vat, fat, eat)
+
+
+@numba.njit(cache=True, nogil=True)
+def blocks_with_ties(values, lows, highs, c, marks):
+    """Which blocks' boxes ``values[b, lows*c : highs*c + 1]`` hold an exact tie of marching cubes
+    (`saddles`: the tie finder over the box); `marks` (flat, all False) is left all False.
+
+    Run where a slab is prepared, so that the meshing thread looks for ties (and deepens their
+    corners, `saddles.break_ties_marked`) only in the few blocks that hold one.
+    """
+    nb = values.shape[0]
+    out = np.zeros(nb, np.bool_)
+    for b in range(nb):
+        xs, ys, zs = lows[b, 0] * c, lows[b, 1] * c, lows[b, 2] * c
+        nx, ny, nz = (highs[b, 0] - lows[b, 0]) * c, (highs[b, 1] - lows[b, 1]) * c, (highs[b, 2] - lows[b, 2]) * c
+        if nx <= 0 or ny <= 0 or nz <= 0:
+            continue
+        size = (nx + 1) * (ny + 1) * (nz + 1)
+        if _TIES(values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1],
+                 marks[:size].reshape((nx + 1, ny + 1, nz + 1))):
+            out[b] = True
+            marks[:size] = False
+    return out

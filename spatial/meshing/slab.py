@@ -10,7 +10,7 @@ import numpy as np
 
 from .saddles import break_ties_marked
 from .arrays import _evaluate, _nudge, _release_free_memory, _settle_ties
-from .kernels import block_box_held, block_boxes, count_needed, take_block_held
+from .kernels import block_boxes, block_mask_held, blocks_with_ties, count_needed, take_block_held
 from .slab_kernels import first_pass, merged_nodes, second_pass, slab_blocks, slab_codes, slab_needed, slab_samples
 
 __all__ = []
@@ -171,7 +171,13 @@ class _SlabJob:
         values = _take(self.scratch, "values", (self.nb * (B + 1) ** 3,), np.float32)
         hid, hval, hsgn = slab_samples(a, b, rows, ru, flat, v_n, s_n, m_idx, back, v_u, values, scale, upper, B,
                                        int(x0), y_base, z_base, int(stride))
-        return cells, values.reshape(self.nb, B + 1, B + 1, B + 1), spent, (self.slab, hid, hval, hsgn)
+        values = values.reshape(self.nb, B + 1, B + 1, B + 1)
+        # every block's box (its cells' bounds), and which boxes hold a tie of marching cubes: found here,
+        # so that the meshing thread runs the tie finder only on those
+        self.lows, self.highs = block_boxes(*self.cl, self.nb, self.P)
+        marks = self.scratch.marks((B + 1) ** 3) if self.scratch is not None else np.zeros((B + 1) ** 3, np.bool_)
+        self.ties = blocks_with_ties(values, self.lows, self.highs, c, marks)
+        return cells, values, spent, (self.slab, hid, hval, hsgn)
 
     def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
         """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
@@ -193,7 +199,7 @@ class _SlabJob:
         (global edge ids of the vertices in block faces, their mask, ``(node, axis, f0, f1)``,
         faces), or None."""
         B, c, x0, stride = self.B, self.c, self.x0, self.stride
-        lows, highs = block_boxes(*self.cl, self.nb, self.P)
+        lows, highs, ties = self.lows, self.highs, self.ties.tolist()
         scratch = self.scratch if self.scratch is not None else _Scratch()
         buf = scratch.buffers(self.capacity_hint)
         # one block's mask at a time, built in place (no slab of voxels, no per-block arrays)
@@ -211,8 +217,9 @@ class _SlabJob:
             # the box as a view of the slab's samples: scikit-image's kernel reads strided boxes as it
             # reads contiguous ones (the same output), so no box is copied
             vol = values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1]
-            if block_box_held(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_mask, flat_marks):
-                # contacts fuse (saddles.py): the marked corners deepened in a copy, the marks cleared
+            block_mask_held(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_mask)
+            if ties[b]:
+                # contacts fuse (saddles.py): the tie corners deepened in a copy
                 vol = break_ties_marked(vol, flat_marks[:size].reshape(shape))
             verts, tri = _marching_cubes_raw(vol, flat_mask[:size].reshape(shape))
             if verts.shape[0] == 0 or tri.shape[0] == 0:
