@@ -11,7 +11,6 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from . import saddles as _saddles
 
 __all__ = []
 
@@ -502,9 +501,6 @@ def paint_parents(state, idx, sgn, x0, y0, z0, negative, positive):
 # switch interval -- once or more per block; these wrappers run the same compiled loops without
 # letting it go.
 
-_TIES = _saddles._kernel()
-
-
 @numba.njit(cache=True)
 def block_mask_held(values, cells, b, xs, ys, zs, nx, ny, nz, c, mask):
     """`block_input`'s mask of block `b`'s box (no values copied), keeping the interpreter's lock."""
@@ -519,10 +515,102 @@ def take_block_held(verts, tri, values, b, xs, ys, zs, B, gx, gy, gz, stride, no
                       edge, faces, vat, fat, eat)
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _face_tie(a, b, c, d):
+    """Whether the face with corners a, b, c, d in order is a tie of `saddles` (its diagonal pattern,
+    the products of its diagonals' values equal)."""
+    if (a < 0) != (c < 0) or (b < 0) != (d < 0) or (a < 0) == (b < 0):
+        return False
+    return np.float64(a) * np.float64(c) == np.float64(b) * np.float64(d)
+
+
 @numba.njit(cache=True, nogil=True)
-def blocks_with_ties(values, lows, highs, c, marks):
+def _sign_rows(v, i, rows):
+    """``rows[j]``: bit ``k`` set where ``v[i, j, k] < 0`` (a row of at most 64 nodes)."""
+    for j in range(v.shape[1]):
+        r = np.uint64(0)
+        for k in range(v.shape[2]):
+            if v[i, j, k] < 0:
+                r |= np.uint64(1) << np.uint64(k)
+        rows[j] = r
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _cube_tie(v, i, j, k):
+    """Whether `saddles`' tie finder marks a corner of cube ``(i, j, k)``: a face at a tie, or (two
+    opposite corners inside, all eight equally far) the tie of the interior test."""
+    i1, j1, k1 = i + 1, j + 1, k + 1
+    neg = 0
+    for di in range(2):
+        for dj in range(2):
+            for dk in range(2):
+                neg += v[i + di, j + dj, k + dk] < 0
+    if neg < 2 or neg > 6:
+        return False
+    for z in (k, k1):
+        if _face_tie(v[i, j, z], v[i1, j, z], v[i1, j1, z], v[i, j1, z]):
+            return True
+    for y in (j, j1):
+        if _face_tie(v[i, y, k], v[i1, y, k], v[i1, y, k1], v[i, y, k1]):
+            return True
+    for x in (i, i1):
+        if _face_tie(v[x, j, k], v[x, j1, k], v[x, j1, k1], v[x, j, k1]):
+            return True
+    if neg != 2:
+        return False
+    mag = abs(v[i, j, k])
+    for di in range(2):
+        for dj in range(2):
+            for dk in range(2):
+                if abs(v[i + di, j + dj, k + dk]) != mag:
+                    return False
+    for di in range(2):
+        for dj in range(2):
+            for dk in range(2):
+                if v[i + di, j + dj, k + dk] < 0 and v[i1 - di, j1 - dj, k1 - dk] < 0:
+                    return True
+    return False
+
+
+@numba.njit(cache=True, nogil=True)
+def has_tie(v):
+    """Whether `saddles`' tie finder marks anything in the box `v`: the same cubes tested
+    (`_cube_tie`), those of one sign skipped by the sign bits of their rows (rows of at most 64
+    nodes; longer rows test every cube)."""
+    nx, ny, nz = v.shape
+    if nz > 64:
+        for i in range(nx - 1):
+            for j in range(ny - 1):
+                for k in range(nz - 1):
+                    if _cube_tie(v, i, j, k):
+                        return True
+        return False
+    lower = np.empty(ny, np.uint64)
+    upper = np.empty(ny, np.uint64)
+    one = np.uint64(1)
+    cubes = (one << np.uint64(nz - 1)) - one
+    _sign_rows(v, 0, lower)
+    for i in range(nx - 1):
+        _sign_rows(v, i + 1, upper)
+        for j in range(ny - 1):
+            every = lower[j] & lower[j + 1] & upper[j] & upper[j + 1]
+            some = lower[j] | lower[j + 1] | upper[j] | upper[j + 1]
+            # cube k is of one sign when its two z ends are: all inside, or none
+            mixed = ~((every & (every >> one)) | (~some & (~some >> one))) & cubes
+            k = 0
+            while mixed:
+                if mixed & one and _cube_tie(v, i, j, k):
+                    return True
+                mixed >>= one
+                k += 1
+        lower, upper = upper, lower
+    return False
+
+
+@numba.njit(cache=True, nogil=True)
+def blocks_with_ties(values, lows, highs, c):
     """Which blocks' boxes ``values[b, lows*c : highs*c + 1]`` hold an exact tie of marching cubes
-    (`saddles`: the tie finder over the box); `marks` (flat, all False) is left all False.
+    (`has_tie`: what `saddles`' tie finder would mark there).
 
     Run where a slab is prepared, so that the meshing thread looks for ties (and deepens their
     corners, `saddles.break_ties_marked`) only in the few blocks that hold one.
@@ -534,9 +622,5 @@ def blocks_with_ties(values, lows, highs, c, marks):
         nx, ny, nz = (highs[b, 0] - lows[b, 0]) * c, (highs[b, 1] - lows[b, 1]) * c, (highs[b, 2] - lows[b, 2]) * c
         if nx <= 0 or ny <= 0 or nz <= 0:
             continue
-        size = (nx + 1) * (ny + 1) * (nz + 1)
-        if _TIES(values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1],
-                 marks[:size].reshape((nx + 1, ny + 1, nz + 1))):
-            out[b] = True
-            marks[:size] = False
+        out[b] = has_tie(values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1])
     return out

@@ -175,8 +175,7 @@ class _SlabJob:
         # every block's box (its cells' bounds), and which boxes hold a tie of marching cubes: found here,
         # so that the meshing thread runs the tie finder only on those
         self.lows, self.highs = block_boxes(*self.cl, self.nb, self.P)
-        marks = self.scratch.marks((B + 1) ** 3) if self.scratch is not None else np.zeros((B + 1) ** 3, np.bool_)
-        self.ties = blocks_with_ties(values, self.lows, self.highs, c, marks)
+        self.ties = blocks_with_ties(values, self.lows, self.highs, c)
         return cells, values, spent, (self.slab, hid, hval, hsgn)
 
     def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
