@@ -223,13 +223,15 @@ def test_put_sampled_is_the_sorted_search_and_ignores_stale_rows(seed):
 @settings(max_examples=60, deadline=None)
 @given(st.integers(0, 2 ** 32 - 1), st.sampled_from([1, 2, 5, 100, 20000]), st.sampled_from([3, 2 ** 20, 2 ** 40]))
 def test_stable_argsort_is_numpys_stable_sort(seed, n, top):
-    from spatial.meshing.slab_kernels import _unique_first, stable_argsort
+    from spatial.meshing.slab_kernels import _unique_first, stable_argsort, unique_inverse
 
     keys = np.random.default_rng(seed).integers(0, top, n).astype(np.int64)
     assert np.array_equal(stable_argsort(keys), np.argsort(keys, kind="stable"))
     uniq, first, back = _unique_first(keys)
     want = np.unique(keys, return_index=True, return_inverse=True)
     for got, ref in zip((uniq, first, back), want):
+        assert np.array_equal(got, ref)
+    for got, ref in zip(unique_inverse(keys), np.unique(keys, return_inverse=True)):
         assert np.array_equal(got, ref)
 
 
