@@ -93,6 +93,24 @@ def _unique_first(ids):
 
 
 @numba.njit(cache=True, nogil=True)
+def nudged_float32(vals, eps, tie):
+    """``(arrays._nudge(vals, h).astype(np.float32), True)`` in one pass when no value is a tie
+    (``|v| <= tie``), else ``(empty, False)``: the caller then settles the ties first
+    (`arrays._settle_ties`).  `eps` is ``ZERO_NUDGE * h``, `tie` ``ZERO_TIE * h``."""
+    n = vals.shape[0]
+    for i in range(n):
+        if abs(vals[i]) <= tie:
+            return np.empty(0, np.float32), False
+    out = np.empty(n, np.float32)
+    for i in range(n):
+        v = vals[i]
+        if not abs(v) >= eps:   # (NaN too: a field undefined there is pushed outside)
+            v = -eps if v < 0 else eps
+        out[i] = np.float32(v)
+    return out, True
+
+
+@numba.njit(cache=True, nogil=True)
 def unique_inverse(keys):
     """``np.unique(keys, return_inverse=True)`` of non-negative int64 keys, by `stable_argsort` (the
     merge's shared edge ids: a radix sort in place of numpy's comparison sort)."""

@@ -265,3 +265,22 @@ def test_has_tie_is_the_tie_finder_on_tie_rich_blocks():
     assert blocks_with_ties(values, lows, highs, 2).tolist() == [False, True, False]
     highs[1] = (1, 2, 2)   # the box of block 1 now ends at node 2 along x: the tie's face is left out
     assert blocks_with_ties(values, lows, highs, 2).tolist() == [False, False, False]
+
+
+def test_nudged_float32_is_the_nudge_or_declines_at_a_tie():
+    from spatial.meshing.arrays import ZERO_NUDGE, ZERO_TIE, _nudge
+    from spatial.meshing.slab_kernels import nudged_float32
+
+    h = 0.01
+    rng = np.random.default_rng(5)
+    vals = rng.normal(0.0, 3 * ZERO_NUDGE * h, 5000)
+    vals[::97] = np.nan
+    vals[1] = -0.5 * ZERO_NUDGE * h
+    vals = np.where(np.abs(vals) <= ZERO_TIE * h, 1.0, vals)   # no tie yet
+    out, clean = nudged_float32(vals, ZERO_NUDGE * h, ZERO_TIE * h)
+    assert clean
+    assert out.dtype == np.float32 and np.array_equal(out, _nudge(vals.copy(), h).astype(np.float32))
+    assert out[1] == np.float32(-ZERO_NUDGE * h) and out[0] == np.float32(ZERO_NUDGE * h)   # NaN pushed outside
+    vals[7] = 0.0   # a tie: left to `_settle_ties`
+    out, clean = nudged_float32(vals, ZERO_NUDGE * h, ZERO_TIE * h)
+    assert not clean and out.size == 0
