@@ -10,9 +10,9 @@ import numpy as np
 
 from .saddles import break_ties_marked
 from .arrays import ZERO_NUDGE, ZERO_TIE, _evaluate, _nudge, _release_free_memory, _settle_ties
-from .kernels import block_boxes, block_mask_held, blocks_with_ties, count_needed, take_block_held
-from .slab_kernels import (first_pass, merged_nodes, nudged_float32, second_pass, slab_blocks, slab_codes, slab_needed,
-                           slab_samples)
+from .kernels import block_boxes, block_mask_held, count_needed, take_block_held
+from .slab_kernels import (blocks_with_ties, first_pass, merged_nodes, nudged_float32, second_pass, slab_blocks,
+                           slab_codes, slab_needed, slab_samples)
 
 __all__ = []
 

@@ -1,13 +1,17 @@
 """Compiled steps of a slab's sampling (`slab._SlabJob.prepare`), a few long calls between its evaluations.
 
-A slab is prepared on a second thread while this one runs scikit-image's marching cubes, which
-holds the interpreter's lock.  Every return from a compiled call or numpy operation that let the
-lock go is a wait for it (up to a switch interval, plus the rest of a marching-cubes call), so the
-preparation's bookkeeping was some 35 such waits per slab at N=512: the merged nodes' ids, their
-``np.unique`` and the previous slab's handoff, each pass's selection of nodes and the scatter of
-its values, the crossing ends, the dense samples and the handoff of the upper plane.  Here they
-are four calls: `merged_nodes`, `first_pass`, `second_pass` and `slab_samples`, each between two
-of the slab's evaluations.
+A slab is prepared on a second thread while the meshing thread runs scikit-image's marching cubes,
+which holds the interpreter's lock.  Every return from a compiled call or numpy operation that let
+the lock go is a wait for it (up to a switch interval, plus the rest of a marching-cubes call): the
+preparation's bookkeeping was some 35 such steps per slab.  Here it is a few calls, each between
+two of the slab's evaluations: `slab_blocks` (the active blocks), `slab_codes` (the node codes from
+the ring and the samples' signs), `slab_needed` (the needed nodes and their known values),
+`merged_nodes` (the nodes two blocks share, by id, and the previous slab's handoff), `first_pass`
+and `second_pass` (each pass's nodes and the scatter of the values before), `slab_samples` (the
+dense samples and the handoff of the upper plane) and `blocks_with_ties` (the blocks whose boxes
+hold a tie of marching cubes, so that the meshing thread looks for ties only there).  The node and
+edge ids are sorted by a radix sort (`stable_argsort`), a pass's values nudged off the level in
+one pass (`nudged_float32`).
 
 Module-level ``@njit(cache=True, nogil=True)`` functions; every result equals the numpy
 expression it replaces, bit for bit (`np.unique` through a stable sort: its first indices are the
@@ -407,3 +411,116 @@ def slab_samples(a, b, rows, ru, flat, v_n, s_n, m_idx, back, v_u, values, scale
         hval[u] = v_n[top[first[u]]]
         hsgn[u] = s_n[top[first[u]]]
     return hid, hval, hsgn
+
+
+# -- the blocks holding a tie of marching cubes (`saddles`) ---------------------------------------
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _face_tie(a, b, c, d):
+    """Whether the face with corners a, b, c, d in order is a tie of `saddles` (its diagonal pattern,
+    the products of its diagonals' values equal)."""
+    if (a < 0) != (c < 0) or (b < 0) != (d < 0) or (a < 0) == (b < 0):
+        return False
+    return np.float64(a) * np.float64(c) == np.float64(b) * np.float64(d)
+
+
+@numba.njit(cache=True, nogil=True)
+def _sign_rows(v, i, rows):
+    """``rows[j]``: bit ``k`` set where ``v[i, j, k] < 0`` (a row of at most 64 nodes)."""
+    for j in range(v.shape[1]):
+        r = np.uint64(0)
+        for k in range(v.shape[2]):
+            if v[i, j, k] < 0:
+                r |= np.uint64(1) << np.uint64(k)
+        rows[j] = r
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _cube_tie(v, i, j, k):
+    """Whether `saddles`' tie finder marks a corner of cube ``(i, j, k)``: a face at a tie, or (two
+    opposite corners inside, all eight equally far) the tie of the interior test."""
+    i1, j1, k1 = i + 1, j + 1, k + 1
+    neg = 0
+    for di in range(2):
+        for dj in range(2):
+            for dk in range(2):
+                neg += v[i + di, j + dj, k + dk] < 0
+    if neg < 2 or neg > 6:
+        return False
+    for z in (k, k1):
+        if _face_tie(v[i, j, z], v[i1, j, z], v[i1, j1, z], v[i, j1, z]):
+            return True
+    for y in (j, j1):
+        if _face_tie(v[i, y, k], v[i1, y, k], v[i1, y, k1], v[i, y, k1]):
+            return True
+    for x in (i, i1):
+        if _face_tie(v[x, j, k], v[x, j1, k], v[x, j1, k1], v[x, j, k1]):
+            return True
+    if neg != 2:
+        return False
+    mag = abs(v[i, j, k])
+    for di in range(2):
+        for dj in range(2):
+            for dk in range(2):
+                if abs(v[i + di, j + dj, k + dk]) != mag:
+                    return False
+    for di in range(2):
+        for dj in range(2):
+            for dk in range(2):
+                if v[i + di, j + dj, k + dk] < 0 and v[i1 - di, j1 - dj, k1 - dk] < 0:
+                    return True
+    return False
+
+
+@numba.njit(cache=True, nogil=True)
+def has_tie(v):
+    """Whether `saddles`' tie finder marks anything in the box `v`: the same cubes tested
+    (`_cube_tie`), those of one sign skipped by the sign bits of their rows (rows of at most 64
+    nodes; longer rows test every cube)."""
+    nx, ny, nz = v.shape
+    if nz > 64:
+        for i in range(nx - 1):
+            for j in range(ny - 1):
+                for k in range(nz - 1):
+                    if _cube_tie(v, i, j, k):
+                        return True
+        return False
+    lower = np.empty(ny, np.uint64)
+    upper = np.empty(ny, np.uint64)
+    one = np.uint64(1)
+    cubes = (one << np.uint64(nz - 1)) - one
+    _sign_rows(v, 0, lower)
+    for i in range(nx - 1):
+        _sign_rows(v, i + 1, upper)
+        for j in range(ny - 1):
+            every = lower[j] & lower[j + 1] & upper[j] & upper[j + 1]
+            some = lower[j] | lower[j + 1] | upper[j] | upper[j + 1]
+            # cube k is of one sign when its two z ends are: all inside, or none
+            mixed = ~((every & (every >> one)) | (~some & (~some >> one))) & cubes
+            k = 0
+            while mixed:
+                if mixed & one and _cube_tie(v, i, j, k):
+                    return True
+                mixed >>= one
+                k += 1
+        lower, upper = upper, lower
+    return False
+
+
+@numba.njit(cache=True, nogil=True)
+def blocks_with_ties(values, lows, highs, c):
+    """Which blocks' boxes ``values[b, lows*c : highs*c + 1]`` hold an exact tie of marching cubes
+    (`has_tie`: what `saddles`' tie finder would mark there).
+
+    Run where a slab is prepared, so that the meshing thread looks for ties (and deepens their
+    corners, `saddles.break_ties_marked`) only in the few blocks that hold one.
+    """
+    nb = values.shape[0]
+    out = np.zeros(nb, np.bool_)
+    for b in range(nb):
+        xs, ys, zs = lows[b, 0] * c, lows[b, 1] * c, lows[b, 2] * c
+        nx, ny, nz = (highs[b, 0] - lows[b, 0]) * c, (highs[b, 1] - lows[b, 1]) * c, (highs[b, 2] - lows[b, 2]) * c
+        if nx <= 0 or ny <= 0 or nz <= 0:
+            continue
+        out[b] = has_tie(values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1])
+    return out

@@ -236,9 +236,9 @@ def test_stable_argsort_is_numpys_stable_sort(seed, n, top):
 
 
 def test_has_tie_is_the_tie_finder_on_tie_rich_blocks():
-    """`kernels.has_tie` is True exactly where `saddles`' finder marks something (rows longer than 64
+    """`slab_kernels.has_tie` is True exactly where `saddles`' finder marks something (rows longer than 64
     nodes too), and `blocks_with_ties` asks it of each block's box."""
-    from spatial.meshing.kernels import blocks_with_ties, has_tie
+    from spatial.meshing.slab_kernels import blocks_with_ties, has_tie
     from spatial.meshing.saddles import _kernel
 
     rng = np.random.default_rng(3)
