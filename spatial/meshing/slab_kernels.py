@@ -3,7 +3,7 @@
 A slab is prepared on a second thread while the meshing thread runs scikit-image's marching cubes,
 which holds the interpreter's lock.  Every return from a compiled call or numpy operation that let
 the lock go is a wait for it (up to a switch interval, plus the rest of a marching-cubes call): the
-preparation's bookkeeping was some 35 such steps per slab.  Here it is a few calls, each between
+preparation's bookkeeping was a few dozen such steps per slab.  Here it is a few calls, each between
 two of the slab's evaluations: `slab_blocks` (the active blocks), `slab_codes` (the node codes from
 the ring and the samples' signs), `slab_needed` (the needed nodes and their known values),
 `merged_nodes` (the nodes two blocks share, by id, and the previous slab's handoff), `first_pass`
