@@ -33,6 +33,20 @@ __all__ = []
 _RADIX_BITS = 8
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _left(sorted_keys, key):
+    """``np.searchsorted(sorted_keys, key)`` (left side) by bisection: numba's own searchsorted lives in
+    ``numba.np.arraymath``, whose load imports scipy.linalg for its BLAS check."""
+    lo, hi = 0, sorted_keys.shape[0]
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if sorted_keys[mid] < key:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
 @numba.njit(cache=True, nogil=True)
 def stable_argsort(keys):
     """``np.argsort(keys, kind="stable")`` of non-negative int64 keys: a least-significant-digit radix
@@ -260,7 +274,7 @@ def slab_codes(sc, inv, lx, ly, lz, keys, nbz, slab, P, ring_idx, ring_sgn, par_
     k = 0
     for j in range(m):
         key = (extra_idx[j, 1] // B) * nbz + extra_idx[j, 2] // B
-        p = min(np.searchsorted(keys, key), nb - 1)
+        p = min(_left(keys, key), nb - 1)
         pos[j] = p
         if keys[p] == key and extra_idx[j, 1] % B != 0 and extra_idx[j, 2] % B != 0:
             hit[j] = True
@@ -325,7 +339,7 @@ def merged_nodes(flat, maybe, s_n, B, x0, ybase, zbase, stride, pid, pval, psgn)
     npid = pid.shape[0]
     if npid:
         for u in range(nu):
-            pos = min(np.searchsorted(pid, uniq[u]), npid - 1)
+            pos = min(_left(pid, uniq[u]), npid - 1)
             if pid[pos] == uniq[u]:
                 v_u[u] = pval[pos]
                 s_u[u] |= psgn[pos]
