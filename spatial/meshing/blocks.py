@@ -6,6 +6,7 @@ import numpy as np
 
 from .arrays import _chunks_on_threads, _release_free_memory
 from .kernels import part_index, remap_faces, scatter_rows
+from .slab_kernels import unique_inverse
 
 __all__ = ["mesh_block", "merge_blocks", "check_block", "INTERIOR"]
 
@@ -110,6 +111,14 @@ def _edges_of(verts):
     return node, axis
 
 
+def _unique_ids(ids):
+    """``np.unique(ids, return_inverse=True)``; non-negative int64 ids (the lattice's edge ids) by a
+    compiled radix sort (`slab_kernels.unique_inverse`): numpy's comparison sort was most of the merge."""
+    if ids.dtype == np.int64 and (ids.size == 0 or ids.min() >= 0):
+        return unique_inverse(ids)
+    return np.unique(ids, return_inverse=True)
+
+
 def merge_blocks(parts, threads=1):
     """Merge per-block results into one indexed mesh keyed by global edge id.
 
@@ -144,7 +153,7 @@ def merge_blocks(parts, threads=1):
     if not parts:
         return None, np.empty((0, 3), np.int32)
     shared_edges = np.concatenate([p[0] for p in parts])
-    uniq, inverse = np.unique(shared_edges, return_inverse=True)
+    uniq, inverse = _unique_ids(shared_edges)
     del shared_edges
     # each part's first face row, first private slot and first shared entry
     k_sh = np.array([int(np.count_nonzero(p[1])) for p in parts], dtype=np.int64)

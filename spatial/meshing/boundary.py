@@ -135,16 +135,59 @@ def mesh(solid, *, voxel_size=None, resolution=None, bounds=None, refine=True, p
     # refuse before allocating (cells.budget)
     check_mesh_memory(lattice.bounds, lattice.voxel_size, features=bool(features))
     found = _boundary_cells_2h(lattice, progress, threads=2)
-    if found["centres"] is not None:
-        from ..cells.specks import warn_lost
+    # the search for features the lattice may lose reads only the classification: it runs on a thread of
+    # its own beside the mesh (whose slab loop leaves a core partly idle), and its warning is given after
+    search = _LostFeatureSearch(lattice, found, solid) if found["centres"] is not None else None
+    try:
+        # popped, so that mesh_cells can release them once used
+        out = mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, found.pop("cells"), cell_size=2,
+                         refine=refine, progress=progress, evaluations=found["evaluations"], block=block,
+                         centre_values=found.pop("centres"), uniform_cells=found.pop("uniform"),
+                         uniform_parents=found.pop("uniform_parents"),
+                         node_values=found.pop("nodes"), features=bool(features), slab_threads=2, _stacklevel=3)
+    except BaseException:
+        if search is not None:
+            search.join()  # not left running; the mesh's error is the one raised
+        raise
+    feature = search.result() if search is not None else None
+    if feature is not None:
+        from ..cells.specks import warn_feature
 
-        warn_lost(lattice.solid, lattice.origin, lattice.voxel_size, found, announced, name_by=solid, stacklevel=3)
-    # popped, so that mesh_cells can release them once used
-    return mesh_cells(lattice.solid, lattice.origin, lattice.voxel_size, found.pop("cells"), cell_size=2,
-                      refine=refine, progress=progress, evaluations=found["evaluations"], block=block,
-                      centre_values=found.pop("centres"), uniform_cells=found.pop("uniform"),
-                      uniform_parents=found.pop("uniform_parents"),
-                      node_values=found.pop("nodes"), features=bool(features), slab_threads=2, _stacklevel=3)
+        warn_feature(feature, lattice.voxel_size, announced, stacklevel=3)
+    return out
+
+
+class _LostFeatureSearch:
+    """`spatial.cells.specks.lost_feature` of a classification, on a thread started at once; `result`
+    joins it and returns the feature (or None), raising what the search raised."""
+
+    def __init__(self, lattice, found, name_by):
+        import threading
+
+        from ..cells.specks import lost_feature
+
+        args = (lattice.solid, lattice.origin, lattice.voxel_size, found["cells"], found["centres"])
+        options = dict(uniform=found.get("uniform"), uniform_parents=found.get("uniform_parents"), name_by=name_by)
+        self._out = []
+
+        def run():
+            try:
+                self._out.append(lost_feature(*args, **options))
+            except BaseException as exc:  # raised on the caller's thread by `result`
+                self._out.append(exc)
+
+        self._thread = threading.Thread(target=run, name="implicad-lost-features", daemon=True)
+        self._thread.start()
+
+    def join(self):
+        self._thread.join()
+
+    def result(self):
+        self._thread.join()
+        out = self._out[0]
+        if isinstance(out, BaseException):
+            raise out
+        return out
 
 
 def _warn_thin(solid, h, bounds=None):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+
 __all__ = []
 
 #: Axis code of a vertex inside a cube (the same as `blocks.INTERIOR`).
@@ -491,3 +492,24 @@ def paint_parents(state, idx, sgn, x0, y0, z0, negative, positive):
             for y in range(max(by, 0), min(by + 2, s1)):
                 for z in range(max(bz, 0), min(bz + 2, s2)):
                     state[x, y, z] |= g
+
+
+# -- the per-block steps of the meshing thread, holding the interpreter's lock ------------------
+# The slab loop runs scikit-image's marching cubes (which holds the lock) block after block while a
+# second thread prepares the next slab.  A kernel that lets the lock go for a few microseconds costs
+# the meshing thread a wait for it afterwards -- the preparing thread takes it and keeps it up to a
+# switch interval -- once or more per block; these wrappers run the same compiled loops without
+# letting it go.
+
+@numba.njit(cache=True)
+def block_mask_held(values, cells, b, xs, ys, zs, nx, ny, nz, c, mask):
+    """`block_input`'s mask of block `b`'s box (no values copied), keeping the interpreter's lock."""
+    block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, values.reshape(-1)[:0], mask, False)
+
+
+@numba.njit(cache=True)
+def take_block_held(verts, tri, values, b, xs, ys, zs, B, gx, gy, gz, stride, node, axis, f0, f1, shared,
+                    edge, faces, vat, fat, eat):
+    """`take_block`, keeping the interpreter's lock."""
+    return take_block(verts, tri, values, b, xs, ys, zs, B, gx, gy, gz, stride, node, axis, f0, f1, shared,
+                      edge, faces, vat, fat, eat)

@@ -9,19 +9,39 @@ import threading
 import numpy as np
 
 from .saddles import break_ties_marked
-from .arrays import _evaluate, _nudge, _release_free_memory, _settle_ties
-from .kernels import (block_boxes, block_input, count_needed, crossing_ends, fill_values, index_positions, infer_around,
-                      needed_nodes, node_ids, node_points, paint_parents, put_sampled, ring_to_nodes, take_block)
+from .arrays import ZERO_NUDGE, ZERO_TIE, _evaluate, _nudge, _release_free_memory, _settle_ties
+from .kernels import block_boxes, block_mask_held, count_needed, take_block_held
+from .slab_kernels import (blocks_with_ties, first_pass, merged_nodes, nudged_float32, second_pass, slab_blocks,
+                           slab_codes, slab_needed, slab_samples)
 
 __all__ = []
-
-# Bits of a node's code while a slab is sampled.
-NEEDED, POSITIVE, NEGATIVE = 1, 2, 4
 
 # Offsets from a cell's centre node to the other 26 nodes of a cell of 2 voxels, by distance (in h).
 _NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                         if (i, j, k) != (0, 0, 0)], dtype=np.int64)
 _NEIGHBOUR_DIST = np.sqrt((_NEIGHBOURS ** 2).sum(axis=1))
+
+# An empty handoff (the first slab, or one after a gap), and the other empty inputs of the kernels.
+_NO_IDS, _NO_VALUES, _NO_SIGNS = np.empty(0, np.int64), np.empty(0, np.float32), np.empty(0, np.int8)
+_NO_ROWS, _NO_WHERE = np.empty(0, np.int64), np.empty(0, np.int32)
+
+
+def _rows_or_none(pair, index_type=np.int32, value_type=np.int8):
+    """``(rows (k, 3), values (k,))`` of a ring, or empty ones for None."""
+    if pair is None:
+        return np.empty((0, 3), index_type), np.empty(0, value_type)
+    return pair
+
+
+_STEPS = {}
+
+
+def _steps(B):
+    """Flat offsets from a node to its 26 neighbours in a block's ``(B+1)^3`` array."""
+    if B not in _STEPS:
+        n = B + 1
+        _STEPS[B] = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1).astype(np.int64)
+    return _STEPS[B]
 
 
 class _SlabJob:
@@ -46,27 +66,9 @@ class _SlabJob:
         self.scratch = None  # a `_Scratch` lent by `run_slabs` (None: fresh arrays)
 
     # -- the parts -------------------------------------------------------------------------
-    def _blocks(self, sc):
-        P = self.P
-        by = sc[:, 1] // P
-        bz = sc[:, 2] // P
-        # the keys are few (nbz**2): unique keys and inverse by counting instead of sorting
-        key = by * self.nbz + bz
-        present = np.bincount(key, minlength=self.nbz * self.nbz) > 0
-        keys = np.flatnonzero(present).astype(key.dtype)
-        rank = np.cumsum(present) - 1
-        inv = rank[key]
-        self.keys = keys
-        self.bys, self.bzs = np.divmod(keys, self.nbz)
-        self.nb = keys.shape[0]
-        self.cl = (inv, sc[:, 0] - self.slab * P, sc[:, 1] - by * P, sc[:, 2] - bz * P)
-        cells = np.zeros((self.nb, P, P, P), dtype=bool)
-        cells[self.cl] = True
-        return cells
-
     def _needed(self, cells):
-        """Nodes of the cells, for cells without a ring of known neighbours (`_node_codes` serves
-        cells of 2 voxels): a separable dilation (each axis: repeat c times, OR a shift by one)."""
+        """Nodes of the cells, for cells without a ring of known neighbours (`slab_kernels.slab_codes`
+        serves cells of 2 voxels): a separable dilation (each axis: repeat c times, OR a shift by one)."""
         c = self.c
         need = cells
         for ax in (1, 2, 3):
@@ -83,86 +85,37 @@ class _SlabJob:
             need = grown
         return need
 
-    def _node_codes(self, sc, ring, ring_parents=None):
-        """What each node of the slab's blocks is known to be, ``(nb, B+1, B+1, B+1)`` uint8 (cells of 2 voxels).
-
-        Bit `NEEDED` marks the nodes of boundary cells, `POSITIVE` / `NEGATIVE`
-        the sign given by a uniform cell holding the node.  A block's nodes
-        are held by the cells of its ring ``[-1, P]`` (local cell coordinates,
-        P cells per side), read from the slab's cell states over the y/z span
-        of its active blocks; the codes go from cells to nodes by an OR, which
-        keeps every bit since the signs of uniform cells agree.
-        """
-        P = self.P
-        y0, y1 = int(self.bys.min()) * P - 1, (int(self.bys.max()) + 1) * P + 1
-        z0, z1 = int(self.bzs.min()) * P - 1, (int(self.bzs.max()) + 1) * P + 1
-        xc = self.slab * P - 1
-        state = np.zeros((P + 2, y1 - y0, z1 - z0), dtype=np.uint8)
-        if ring_parents is not None and ring_parents[0].shape[0]:
-            # uniform cells twice as large, each over its 8 children
-            paint_parents(state, ring_parents[0], ring_parents[1], xc, y0, z0, np.uint8(NEGATIVE), np.uint8(POSITIVE))
-        if ring is not None and ring[0].shape[0]:
-            idx, sgn = ring
-            sel = (idx[:, 1] >= y0) & (idx[:, 1] < y1) & (idx[:, 2] >= z0) & (idx[:, 2] < z1)
-            state[idx[sel, 0] - xc, idx[sel, 1] - y0, idx[sel, 2] - z0] = np.where(sgn[sel] < 0, NEGATIVE, POSITIVE)
-        state[sc[:, 0] - xc, sc[:, 1] - y0, sc[:, 2] - z0] = NEEDED
-        out = _take(self.scratch, "code", (self.nb,) + (2 * P + 1,) * 3, np.uint8)
-        ring_to_nodes(state, (self.bys * P - 1 - y0).astype(np.int64), (self.bzs * P - 1 - z0).astype(np.int64), P,
-                      out)
-        return out
-
-    def _known_in_blocks(self, extra):
-        """Block-local positions of already sampled nodes strictly inside an active block."""
-        B = self.B
-        idx, val = extra
-        by, ly = np.divmod(idx[:, 1], B)
-        bz, lz = np.divmod(idx[:, 2], B)
-        key = by * self.nbz + bz
-        pos = np.minimum(np.searchsorted(self.keys, key), self.nb - 1)
-        hit = (self.keys[pos] == key) & (ly != 0) & (lz != 0)
-        return pos[hit], idx[hit, 0] - self.x0, ly[hit], lz[hit], val[hit]
-
-    def _infer_around(self, code, b_, x_, y_, z_, v):
-        """Signs of the 26 neighbours of sampled nodes ``v`` farther than ``d`` from the level (``|v| > L d``).
-
-        Written as `POSITIVE` / `NEGATIVE` bits into the node codes.  The
-        sampled nodes lie strictly inside their block, so every neighbour is
-        a node of the same block.
-        """
-        n = self.B + 1
-        gs = np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
-        mag = np.abs(v)
-        base = ((b_.astype(np.int64) * n + x_) * n + y_) * n + z_
-        flat = code.reshape(-1)
-        step = (_NEIGHBOURS * np.array([n * n, n, 1])).sum(axis=1)
-        # float32 values: a margin for their rounding
-        thresholds = np.empty(step.shape[0], dtype=np.float32)
+    def _thresholds(self):
+        """Per neighbour of a sampled node (`_NEIGHBOURS`), the distance to the level past which the
+        node's sign is the neighbour's: ``L d h`` (float32 values: a margin for their rounding)."""
+        thresholds = np.empty(_NEIGHBOURS.shape[0], dtype=np.float32)
         for d in np.unique(_NEIGHBOUR_DIST):
             thresholds[_NEIGHBOUR_DIST == d] = np.float32(self.lip * d * self.h * (1 + 1e-6))
-        infer_around(flat, base, gs, mag, step.astype(np.int64), thresholds)
+        return thresholds
 
     def prepare(self, sc, given, ring, centre_infer, handoff, extra=None):
         """Sample the slab's nodes: ``(cells, values (nb, B+1, B+1, B+1), evaluations, handoff)``,
         what `mesh` takes.  Needs only the previous slab's handoff, not its mesh, so the next slab
         can be prepared while this one is meshed."""
         B, P, c, h, x0, stride = self.B, self.P, self.c, self.h, self.x0, self.stride
-        cells = self._blocks(sc)
-        code = self._node_codes(sc, *ring) if c == 2 else self._needed(cells).view(np.uint8)
-        sampled = []  # (block, x, y, z, value) of nodes already sampled
-        if given is not None:
-            b_, x_, y_, z_ = self.cl
-            sampled.append((b_, 2 * x_ + 1, 2 * y_ + 1, 2 * z_ + 1, given))
-        if extra is not None and extra[0].shape[0]:
-            sampled.append(self._known_in_blocks(extra))
-        for b_, x_, y_, z_, v in sampled:
-            if centre_infer:
-                self._infer_around(code, b_, x_, y_, z_, v)
-            else:
-                code[b_, x_, y_, z_] |= np.where(v < 0, NEGATIVE, POSITIVE).astype(np.uint8)
-        # -- the needed nodes as a list, with global ids -----------------------------------
-        # (one compiled pass over the codes: positions, signs, and where the nodes lie in their block)
-        codes = code.reshape(-1)
-        n_need = count_needed(codes)
+        keys, inv, lx, ly, lz, cells = slab_blocks(sc, int(self.slab), int(P), int(self.nbz))
+        self.keys, self.nb, self.cl = keys, keys.shape[0], (inv, lx, ly, lz)
+        self.bys, self.bzs = np.divmod(keys, self.nbz)
+        if c == 2:
+            # one compiled call: the codes from the ring, the signs the samples give, the needed count
+            code = _take(self.scratch, "code", (self.nb,) + (2 * P + 1,) * 3, np.uint8)
+            (ring_idx, ring_sgn), (par_idx, par_sgn) = (_rows_or_none(r) for r in ring)
+            extra_idx, extra_val = _rows_or_none(extra, np.int64, np.float32)
+            eb, ex, ey, ez, ev, n_need = slab_codes(
+                sc, inv, lx, ly, lz, keys, int(self.nbz), int(self.slab), int(P), ring_idx, ring_sgn, par_idx,
+                par_sgn, _NO_VALUES if given is None else given, extra_idx, extra_val, bool(centre_infer),
+                _steps(B), self._thresholds() if centre_infer else _NO_VALUES, code)
+        else:
+            code = self._needed(cells).view(np.uint8)
+            eb = ex = ey = ez = _NO_ROWS
+            ev = _NO_VALUES
+            n_need = count_needed(code.reshape(-1))
+        # -- the needed nodes as a list, with their values where already sampled -----------------
         # positions within the slab's arrays fit 32 bits: halves the memory of the node lists
         itype = np.int32 if code.size < 2 ** 31 else np.int64
         flat = np.empty(n_need, dtype=itype)
@@ -170,90 +123,65 @@ class _SlabJob:
         # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
         maybe = np.empty(n_need, dtype=np.bool_)
         upper = np.empty(n_need, dtype=np.bool_)
-        needed_nodes(codes, B, flat, s_n, maybe, upper)
-        top = np.flatnonzero(upper)  # the upper x plane, handed to the next slab
-        del upper, codes
+        # nodes already sampled (never on a block face) hold their values: found through the row of
+        # every needed node at its position, written into the slab's samples array (not filled before
+        # `slab_samples` below; 32-bit rows fit it)
+        sampled = given is not None or eb.shape[0]
+        where = _take(self.scratch, "values", (code.size,), np.float32).view(np.int32) if sampled else _NO_WHERE
+        v_n = slab_needed(code.reshape(-1), B, flat, s_n, maybe, upper, inv, lx, ly, lz,
+                          _NO_VALUES if given is None else given, eb, ex, ey, ez, ev, where)
+        del where, eb, ex, ey, ez, ev
         y_base = (self.bys * B).astype(np.int64)
         z_base = (self.bzs * B).astype(np.int64)
-
-        def ids(rows):
-            return node_ids(flat, rows, B, int(x0), y_base, z_base, int(stride))
-
-        v_n = np.full(flat.shape[0], np.nan, dtype=np.float32)
-        if sampled:
-            # nodes already sampled (never on a block face) hold their values: found through the
-            # row of every needed node at its position, written into the slab's samples array (not
-            # filled before `fill_values` below; 32-bit rows fit it)
-            where = _take(self.scratch, "values", (code.size,), np.float32).view(np.int32)
-            index_positions(flat, where)
-            for b_, x_, y_, z_, v in sampled:
-                put_sampled(flat, where, b_, x_, y_, z_, v, B + 1, v_n)
-            del where
-        del sampled
-        m_idx = np.flatnonzero(maybe)
-        uniq, ufirst, back = np.unique(ids(m_idx), return_index=True, return_inverse=True)
-        s_u = np.zeros(uniq.shape[0], dtype=np.int8)
-        s_m = s_n[m_idx]
-        s_u[back[s_m != 0]] = s_m[s_m != 0]
-        v_u = np.full(uniq.shape[0], np.nan, dtype=np.float32)
+        # -- the nodes two blocks may share, merged by id; what the previous slab learned of them --
         if handoff is not None and handoff[0] == self.slab - 1 and handoff[1].size:
             pid, pval, psgn = handoff[1], handoff[2], handoff[3]
-            pos = np.minimum(np.searchsorted(pid, uniq), pid.size - 1)
-            hit = pid[pos] == uniq
-            v_u[hit] = pval[pos[hit]]
-            s_u[hit] |= psgn[pos[hit]]
-        del s_m
-        single = ~maybe
+        else:
+            pid, pval, psgn = _NO_IDS, _NO_VALUES, _NO_SIGNS
+        origin = np.asarray(self.origin, dtype=np.float64)
+        m_idx, ufirst, back, s_u, v_u = merged_nodes(flat, maybe, s_n, B, int(x0), y_base, z_base, int(stride),
+                                                     pid, pval, psgn)
         spent = 0
 
-        def sample(sel_single, sel_unique):
-            """Evaluate the chosen single nodes and unique merged nodes in one call."""
-            pick = np.concatenate([np.flatnonzero(sel_single), m_idx[ufirst[sel_unique]]])
-            pts = node_points(flat, pick, B, int(x0), y_base, z_base, np.asarray(self.origin, dtype=np.float64), h)
-            if not pick.shape[0]:
-                return np.empty(0, np.float32), np.empty(0, np.float32), 0
+        def sample(pts, k):
+            """Values (float32, nudged, ties settled) at `pts`, split after the first `k`, and the
+            evaluations spent."""
+            if not pts.shape[0]:
+                return _NO_VALUES, _NO_VALUES, 0
             vals = _evaluate(self.solid, pts)
-            probes = _settle_ties(self.solid, pts, vals, h)
-            vals = _nudge(vals, h).astype(np.float32)
-            k = int(np.count_nonzero(sel_single))
-            return vals[:k], vals[k:], int(pick.shape[0]) + probes
+            # (one compiled pass when no value is a tie, the usual case)
+            out, clean = nudged_float32(vals, ZERO_NUDGE * h, ZERO_TIE * h)
+            probes = 0
+            if not clean:
+                probes = _settle_ties(self.solid, pts, vals, h)
+                out = _nudge(vals, h).astype(np.float32)
+            return out[:k], out[k:], int(pts.shape[0]) + probes
 
         # -- pass 1: nodes of unknown sign ---------------------------------------------------
-        t1 = single & (s_n == 0)
-        t1u = s_u == 0
-        a, b, n = sample(t1, t1u)
+        rows, ru, pts = first_pass(flat, maybe, s_n, m_idx, ufirst, s_u, B, int(x0), y_base, z_base, origin, h)
+        a, b, n = sample(pts, rows.shape[0])
         spent += n
-        v_n[t1] = a
-        v_u[t1u] = b
-        s_n[t1] = np.where(a < 0, -1, 1)
-        s_u[t1u] = np.where(b < 0, -1, 1)
-        s_n[m_idx] = s_u[back]
-        v_n[m_idx] = v_u[back]
-        del t1, t1u, a, b
         # -- pass 2: the ends of crossing edges without a value -------------------------------
         # (before marching cubes, which resolves its ambiguous faces and cubes from the values)
         # (the codes are spent: their memory holds the signs)
-        w_n = crossing_ends(code.reshape(-1).view(np.int8), flat, s_n, v_n, B)
-        del code
-        w_u = np.zeros(uniq.shape[0], dtype=bool)
-        w_u[back[w_n[m_idx]]] = True
-        w_s = w_n & single
-        del w_n
-        a, b, n = sample(w_s, w_u)
+        rows, ru, pts = second_pass(a, b, rows, ru, flat, maybe, s_n, v_n, m_idx, ufirst, back, s_u, v_u,
+                                    code.reshape(-1).view(np.int8), B, int(x0), y_base, z_base, origin, h)
+        del code, a, b
+        a, b, n = sample(pts, rows.shape[0])
         spent += n
-        v_n[w_s] = a
-        v_u[w_u] = b
-        v_n[m_idx] = v_u[back]
-        del w_s, w_u, a, b
+        del pts
         # -- marching cubes: a sign-only node gets +-L h, an unused node 1 ------------------
+        # (the upper plane goes to the next slab: values NaN where only the sign is known)
         scale = np.float32(self.lip * h if self.lip else h)
         values = _take(self.scratch, "values", (self.nb * (B + 1) ** 3,), np.float32)
-        fill_values(values, flat, v_n, s_n, scale)
-        del v_u
-        # the upper plane goes to the next slab (values NaN where only the sign is known)
-        hid, first = np.unique(ids(top), return_index=True)
-        handoff = (self.slab, hid, v_n[top][first], s_n[top][first])
-        return cells, values.reshape(self.nb, B + 1, B + 1, B + 1), spent, handoff
+        hid, hval, hsgn = slab_samples(a, b, rows, ru, flat, v_n, s_n, m_idx, back, v_u, values, scale, upper, B,
+                                       int(x0), y_base, z_base, int(stride))
+        values = values.reshape(self.nb, B + 1, B + 1, B + 1)
+        # every block's box (its cells' bounds), and which boxes hold a tie of marching cubes: found here,
+        # so that the meshing thread runs the tie finder only on those
+        self.lows, self.highs = block_boxes(*self.cl, self.nb, self.P)
+        self.ties = blocks_with_ties(values, self.lows, self.highs, c)
+        return cells, values, spent, (self.slab, hid, hval, hsgn)
 
     def run(self, sc, given, ring, centre_infer, handoff, parts, extra=None):
         """Sample and mesh; returns ``(blocks meshed, evaluations, handoff)``."""
@@ -275,11 +203,10 @@ class _SlabJob:
         (global edge ids of the vertices in block faces, their mask, ``(node, axis, f0, f1)``,
         faces), or None."""
         B, c, x0, stride = self.B, self.c, self.x0, self.stride
-        lows, highs = block_boxes(*self.cl, self.nb, self.P)
+        lows, highs, ties = self.lows, self.highs, self.ties.tolist()
         scratch = self.scratch if self.scratch is not None else _Scratch()
         buf = scratch.buffers(self.capacity_hint)
         # one block's mask at a time, built in place (no slab of voxels, no per-block arrays)
-        flat_vol = np.empty(0, np.float32)   # (`block_input` copies no samples here)
         flat_mask = _take(scratch, "mask", ((B + 1) ** 3,), np.bool_)
         # the marks of `break_ties_marked`: cleared once, left clear by every block
         flat_marks = scratch.marks((B + 1) ** 3)
@@ -293,15 +220,16 @@ class _SlabJob:
             size = shape[0] * shape[1] * shape[2]
             # the box as a view of the slab's samples: scikit-image's kernel reads strided boxes as it
             # reads contiguous ones (the same output), so no box is copied
-            block_input(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_vol, flat_mask, False)
             vol = values[b, xs:xs + nx + 1, ys:ys + ny + 1, zs:zs + nz + 1]
-            # contacts fuse (saddles.py)
-            vol = break_ties_marked(vol, flat_marks[:size].reshape(shape))
+            block_mask_held(values, cells, b, xs, ys, zs, nx, ny, nz, c, flat_mask)
+            if ties[b]:
+                # contacts fuse (saddles.py): the tie corners deepened in a copy
+                vol = break_ties_marked(vol, flat_marks[:size].reshape(shape))
             verts, tri = _marching_cubes_raw(vol, flat_mask[:size].reshape(shape))
             if verts.shape[0] == 0 or tri.shape[0] == 0:
                 continue
             buf.reserve(verts.shape[0], tri.shape[0] // 3)
-            buf.vat, buf.fat, buf.eat = take_block(
+            buf.vat, buf.fat, buf.eat = take_block_held(
                 verts, tri, values, b, xs, ys, zs, B, x0, gy, gz, stride, buf.node, buf.axis,
                 buf.f0, buf.f1, buf.shared, buf.edge, buf.faces, buf.vat, buf.fat, buf.eat)
         if buf.vat == 0:

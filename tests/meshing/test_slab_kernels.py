@@ -218,3 +218,69 @@ def test_put_sampled_is_the_sorted_search_and_ignores_stale_rows(seed):
         want[p] = val
     assert np.array_equal(got, want, equal_nan=True)
     assert 0 < np.count_nonzero(~np.isnan(got)) < flat.shape[0]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.sampled_from([1, 2, 5, 100, 20000]), st.sampled_from([3, 2 ** 20, 2 ** 40]))
+def test_stable_argsort_is_numpys_stable_sort(seed, n, top):
+    from spatial.meshing.slab_kernels import _unique_first, stable_argsort, unique_inverse
+
+    keys = np.random.default_rng(seed).integers(0, top, n).astype(np.int64)
+    assert np.array_equal(stable_argsort(keys), np.argsort(keys, kind="stable"))
+    uniq, first, back = _unique_first(keys)
+    want = np.unique(keys, return_index=True, return_inverse=True)
+    for got, ref in zip((uniq, first, back), want):
+        assert np.array_equal(got, ref)
+    for got, ref in zip(unique_inverse(keys), np.unique(keys, return_inverse=True)):
+        assert np.array_equal(got, ref)
+
+
+def test_has_tie_is_the_tie_finder_on_tie_rich_blocks():
+    """`slab_kernels.has_tie` is True exactly where `saddles`' finder marks something (rows longer than 64
+    nodes too), and `blocks_with_ties` asks it of each block's box."""
+    from spatial.meshing.slab_kernels import blocks_with_ties, has_tie
+    from spatial.meshing.saddles import _kernel
+
+    rng = np.random.default_rng(3)
+    with_tie = 0
+    for trial in range(600):
+        shape = tuple(int(s) for s in rng.integers(2, 8, 3))
+        if trial % 40 == 0:
+            shape = (3, 3, int(rng.integers(60, 70)))
+        v = rng.choice([-1.0, 1.0, -0.5, 0.5, -0.25, 2.0] if trial % 2 else [-1.0, 1.0], size=shape)
+        v = v.astype(np.float32)
+        if trial % 3 == 0:
+            v[rng.random(shape) < 0.7] = 1.0   # few cubes of both signs
+        ref = _kernel()(v, np.zeros(shape, bool)) > 0
+        assert has_tie(v) == ref
+        with_tie += ref
+    assert 100 < with_tie < 590   # both answers were tested
+    # a slab of three 4^3 blocks: a tie in block 1 only, inside its box
+    values = np.ones((3, 5, 5, 5), np.float32)
+    values[:, :, :, :2] = -1.0
+    values[1, 2, 2, 2] = values[1, 3, 3, 2] = -0.5
+    values[1, 3, 2, 2] = values[1, 2, 3, 2] = 0.5
+    lows = np.zeros((3, 3), np.int64)
+    highs = np.full((3, 3), 2, np.int64)
+    assert blocks_with_ties(values, lows, highs, 2).tolist() == [False, True, False]
+    highs[1] = (1, 2, 2)   # the box of block 1 now ends at node 2 along x: the tie's face is left out
+    assert blocks_with_ties(values, lows, highs, 2).tolist() == [False, False, False]
+
+
+def test_nudged_float32_is_the_nudge_or_declines_at_a_tie():
+    from spatial.meshing.arrays import ZERO_NUDGE, ZERO_TIE, _nudge
+    from spatial.meshing.slab_kernels import nudged_float32
+
+    h = 0.01
+    rng = np.random.default_rng(5)
+    vals = rng.normal(0.0, 3 * ZERO_NUDGE * h, 5000)
+    vals[::97] = np.nan
+    vals[1] = -0.5 * ZERO_NUDGE * h
+    vals = np.where(np.abs(vals) <= ZERO_TIE * h, 1.0, vals)   # no tie yet
+    out, clean = nudged_float32(vals, ZERO_NUDGE * h, ZERO_TIE * h)
+    assert clean
+    assert out.dtype == np.float32 and np.array_equal(out, _nudge(vals.copy(), h).astype(np.float32))
+    assert out[1] == np.float32(-ZERO_NUDGE * h) and out[0] == np.float32(ZERO_NUDGE * h)   # NaN pushed outside
+    vals[7] = 0.0   # a tie: left to `_settle_ties`
+    out, clean = nudged_float32(vals, ZERO_NUDGE * h, ZERO_TIE * h)
+    assert not clean and out.size == 0
