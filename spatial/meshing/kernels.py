@@ -291,21 +291,6 @@ def illinois_step(active, ft, t, a, b, fa, fb, side, step, tol_h, accept_h):
 
 
 @numba.njit(cache=True, nogil=True)
-def infer_around(code, base, gs, mag, steps, thresholds):
-    """OR the sign bits `gs` of sampled nodes (flat positions `base`) into their own code and into
-    the codes of the neighbours ``base + steps[o]`` whose threshold they exceed (``mag >
-    thresholds[o]``: farther from the level than the Lipschitz bound to that neighbour)."""
-    for j in range(base.shape[0]):
-        p = base[j]
-        g = gs[j]
-        m = mag[j]
-        for o in range(steps.shape[0]):
-            if m > thresholds[o]:
-                code[p + steps[o]] |= g
-        code[p] |= g
-
-
-@numba.njit(cache=True, nogil=True)
 def block_boxes(inv, lx, ly, lz, nb, P):
     """Per block, the box ``[lows, highs)`` (cell units, block-local) of its cells ``(lx, ly, lz)``
     (block `inv`); ``(P, P, P)`` / ``(0, 0, 0)`` for a block without cells."""

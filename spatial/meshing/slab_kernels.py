@@ -210,7 +210,8 @@ def slab_blocks(sc, slab, P, nbz):
 @numba.njit(cache=True, nogil=True, inline="always")
 def _known_sign(flat, base, v, infer, steps, thresholds):
     """OR the sign bit of a sampled node's value `v` into its code (flat position `base`) and, with
-    `infer`, into those of the neighbours it is farther from the level than (`kernels.infer_around`)."""
+    `infer`, into those of the neighbours it is farther from the level than (the Lipschitz bound to each
+    neighbour, ``abs(v) > thresholds[o]``)."""
     g = np.uint8(_NEGATIVE) if v < 0 else np.uint8(_POSITIVE)
     if infer:
         m = abs(v)
