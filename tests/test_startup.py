@@ -36,7 +36,7 @@ def test_import_spatial_loads_no_room_and_no_heavy_library():
     assert set(loaded) <= {"spatial", "spatial.files", "spatial.files.atomic", "spatial.files.lazy",
                            "spatial.files.meshes", "spatial.files.progress", "spatial.files.shutdown",
                            "spatial.files.frozen_imports", "spatial.files.deferred_imports",
-                           "spatial.files.vtk_listing"}, loaded
+                           "spatial.files.vtk_listing", "spatial.files.import_hooks"}, loaded
 
 
 def test_import_implicit_loads_no_scipy_numba_or_spatial():

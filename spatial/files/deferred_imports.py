@@ -28,6 +28,8 @@ from __future__ import annotations
 import os
 import sys
 
+from .import_hooks import spec_behind
+
 __all__ = ["install", "installed", "DEFERRED", "EAGER"]
 
 #: Environment variable: "1" imports every module as usual.
@@ -55,15 +57,8 @@ class _DeferringFinder:
     def find_spec(self, name, path=None, target=None):
         if name not in DEFERRED:
             return None
-        for finder in list(sys.meta_path):  # a copy: a finder may remove itself when asked
-            if finder is self or not hasattr(finder, "find_spec"):
-                continue
-            spec = finder.find_spec(name, path, target)
-            if spec is not None:
-                break
-        else:
-            return None
-        if spec.loader is None or not hasattr(spec.loader, "exec_module"):
+        spec = spec_behind(self, name, path, target)
+        if spec is None or spec.loader is None or not hasattr(spec.loader, "exec_module"):
             return spec
         from importlib.util import LazyLoader
 

@@ -33,6 +33,8 @@ import gc
 import os
 import sys
 
+from .import_hooks import WrappingLoader, spec_behind
+
 __all__ = ["install", "installed", "PACKAGES", "FULL_GC"]
 
 #: Environment variable: "1" leaves every import to the collector as usual.
@@ -60,37 +62,16 @@ class _PausingFinder:
     def find_spec(self, name, path=None, target=None):
         if _STATE["depth"] or name not in PACKAGES:
             return None
-        for finder in list(sys.meta_path):  # a copy: a finder may remove itself when asked
-            if finder is self or not hasattr(finder, "find_spec"):
-                continue
-            spec = finder.find_spec(name, path, target)
-            if spec is not None:
-                break
-        else:
-            return None
-        loader = spec.loader
-        if loader is not None and hasattr(loader, "exec_module"):
-            spec.loader = _PausingLoader(loader)
-        return spec
+        return _PausingLoader.wrap(spec_behind(self, name, path, target))
 
     def invalidate_caches(self):
         return None
 
 
-class _PausingLoader:
+class _PausingLoader(WrappingLoader):
     """The original loader run with the collector off; everything alive afterwards frozen."""
 
-    def __init__(self, loader):
-        self.loader = loader
-
-    def create_module(self, spec):
-        return self.loader.create_module(spec)
-
-    def exec_module(self, module):
-        # the module keeps its own loader (resource readers, get_source): only this run is wrapped
-        module.__loader__ = self.loader
-        if module.__spec__ is not None:
-            module.__spec__.loader = self.loader
+    def run(self, module):
         enabled = gc.isenabled()
         gc.disable()
         _STATE["depth"] += 1

@@ -21,6 +21,8 @@ from __future__ import annotations
 import os
 import sys
 
+from .import_hooks import WrappingLoader, spec_behind
+
 __all__ = ["install", "find_lib_path"]
 
 _PACKAGE = "vtkmodules"
@@ -89,32 +91,13 @@ class _AfterVtk:
         if name != _PACKAGE:
             return None
         sys.meta_path.remove(self)
-        for finder in list(sys.meta_path):
-            if not hasattr(finder, "find_spec"):
-                continue
-            spec = finder.find_spec(name, path, target)
-            if spec is not None:
-                break
-        else:
-            return None
-        if spec.loader is not None and hasattr(spec.loader, "exec_module"):
-            spec.loader = _PatchingLoader(spec.loader)
-        return spec
+        return _PatchingLoader.wrap(spec_behind(self, name, path, target))
 
     def invalidate_caches(self):
         return None
 
 
-class _PatchingLoader:
-    def __init__(self, loader):
-        self.loader = loader
-
-    def create_module(self, spec):
-        return self.loader.create_module(spec)
-
-    def exec_module(self, module):
-        module.__loader__ = self.loader
-        if module.__spec__ is not None:
-            module.__spec__.loader = self.loader
+class _PatchingLoader(WrappingLoader):
+    def run(self, module):
         self.loader.exec_module(module)
         _patch(module)
