@@ -19,6 +19,7 @@ import warnings
 
 import numpy as np
 
+from .surface_kernels import first_use_order, repeated_points
 from .surface_quality import _is_closed_manifold, _normals, _polydata, mesh_faces
 
 __all__ = ["cluster_mesh"]
@@ -83,9 +84,7 @@ def _needs_cleaning(mesh) -> bool:
     faces = mesh_faces(mesh)
     if faces.size == 0 or np.count_nonzero(np.bincount(faces.reshape(-1), minlength=pts.shape[0])) != pts.shape[0]:
         return True
-    order = np.lexsort(pts.T)
-    ps = pts[order]
-    return bool(np.any(np.all(ps[1:] == ps[:-1], axis=1)))
+    return repeated_points(pts)
 
 
 def _clean_input(mesh):
@@ -100,12 +99,7 @@ def _clean_input(mesh):
         # points in the order the triangles first use them (which the clustering's result depends on).
         pts = np.asarray(mesh.points, dtype=np.float64)
         faces = mesh_faces(mesh)
-        flat = faces.reshape(-1)
-        first = np.empty(pts.shape[0], dtype=np.int64)
-        first[flat[::-1]] = np.arange(flat.size - 1, -1, -1)  # the last write is the first use
-        order = np.argsort(first, kind="stable")
-        rank = np.empty(pts.shape[0], dtype=np.int64)
-        rank[order] = np.arange(order.size)
+        order, rank = first_use_order(faces, pts.shape[0])
         pts, faces = pts[order], rank[faces]
     area = 0.5 * np.linalg.norm(_normals(pts, faces), axis=1)
     keep = area > 1e-14 * max(float(area.max(initial=0.0)), 1e-300)

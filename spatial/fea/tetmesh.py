@@ -32,8 +32,8 @@ import numpy as np
 
 from implicit.solid import Solid, as_positive
 from .facets import FacetField
-from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
-                      surface_for_fea)
+from .surface import (_deviation, _is_closed_manifold, enclosed as _enclosed, mesh_faces, project_to_surface,
+                      self_intersections, surface_for_fea)
 from .cavities import cavity_points
 from .curved import OFF_SURFACE, curve_boundary
 from .boundary_repair import slide_boundary_nodes
@@ -249,7 +249,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
             raise ValueError(f"surface: {crossing} triangles intersect others; TetGen needs a surface "
                              "free of self-intersections")
     spts = np.asarray(surface.points, dtype=np.float64)
-    enclosed = abs(float(surface.volume))
+    enclosed = abs(_enclosed(surface))
     expected_nodes = int(enclosed / (_REGULAR_VOLUME * size**3) / 5.0) + len(spts)
     cap = int(steiner_cap) if steiner_cap is not None else 20 * expected_nodes + 1000
     clock.append(time.perf_counter())
@@ -480,7 +480,7 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
             continue
         volume, allowed = known[0], (tolerance + known[1]) * order
         kept = surface, size * factor, known
-        if abs(abs(float(surface.volume)) - volume) <= allowed * max(abs(volume), 1e-300):
+        if abs(abs(_enclosed(surface)) - volume) <= allowed * max(abs(volume), 1e-300):
             return kept
     if kept is not None:
         return kept
