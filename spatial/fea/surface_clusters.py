@@ -19,8 +19,8 @@ import warnings
 
 import numpy as np
 
-from .surface_kernels import first_use_order, repeated_points
-from .surface_quality import _is_closed_manifold, _normals, _polydata, mesh_faces
+from .surface_kernels import first_use_order, repeated_points, triangle_areas
+from .surface_quality import _is_closed_manifold, _polydata, mesh_faces
 
 __all__ = ["cluster_mesh"]
 
@@ -101,7 +101,7 @@ def _clean_input(mesh):
         faces = mesh_faces(mesh)
         order, rank = first_use_order(faces, pts.shape[0])
         pts, faces = pts[order], rank[faces]
-    area = 0.5 * np.linalg.norm(_normals(pts, faces), axis=1)
+    area = triangle_areas(pts, faces)
     keep = area > 1e-14 * max(float(area.max(initial=0.0)), 1e-300)
     keep &= (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
     faces = faces[keep]

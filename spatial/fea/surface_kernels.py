@@ -4,6 +4,7 @@
   (a lexicographic sort of the feature mesh's 38,000 points took 5 to 7 ms);
 - `first_use_order`: the points renumbered in the order the triangles first use them, in one walk
   (an argsort of each point's first use before);
+- `triangle_areas`: half the norm of each triangle's normal, as numpy's passes give it;
 - `enclosed_volume`: the volume a closed surface encloses as ``pyvista.PolyData.volume`` gives it
   (VTK's mass properties: the divergence theorem on each axis, weighted by how many triangles face
   that axis most), without building the VTK pipeline (7 ms for the feature mesh's 77,000 triangles).
@@ -16,7 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["enclosed_volume", "first_use_order", "repeated_points"]
+__all__ = ["enclosed_volume", "first_use_order", "repeated_points", "triangle_areas"]
 
 
 @njit(cache=True, nogil=True)
@@ -206,3 +207,36 @@ def enclosed_volume(points, faces) -> float:
     if faces.min() < 0 or faces.max() >= len(points):
         raise ValueError(f"faces: expected point numbers in 0 .. {len(points) - 1}")
     return float(_enclosed_volume(points, faces))
+
+
+@njit(cache=True, nogil=True)
+def _triangle_areas(points, faces):
+    m = faces.shape[0]
+    out = np.empty(m)
+    for t in range(m):
+        p, q, r = faces[t, 0], faces[t, 1], faces[t, 2]
+        u0, u1, u2 = points[q, 0] - points[p, 0], points[q, 1] - points[p, 1], points[q, 2] - points[p, 2]
+        v0, v1, v2 = points[r, 0] - points[p, 0], points[r, 1] - points[p, 1], points[r, 2] - points[p, 2]
+        n0 = u1 * v2 - u2 * v1
+        n1 = u2 * v0 - u0 * v2
+        n2 = u0 * v1 - u1 * v0
+        out[t] = 0.5 * math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    return out
+
+
+def triangle_areas(points, faces):
+    """Areas ``(m,)`` of the triangles: ``0.5 * np.linalg.norm(surface_quality._normals(points, faces), axis=1)``
+    to the bit, in one pass (7 -> 0.3 ms for 77,000 triangles).
+
+    Examples
+    --------
+    >>> triangle_areas(np.array([[0, 0, 0], [2, 0, 0], [0, 1, 0]], dtype=float), np.array([[0, 1, 2]])).tolist()
+    [1.0]
+    """
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    if faces.ndim != 2 or faces.shape[1] != 3:
+        raise ValueError(f"faces: expected triangles of shape (m, 3), got {faces.shape}")
+    if faces.size and (faces.min() < 0 or faces.max() >= len(points)):
+        raise ValueError(f"faces: expected point numbers in 0 .. {len(points) - 1}")
+    return _triangle_areas(points, faces)

@@ -121,3 +121,33 @@ def test_first_use_order_as_the_argsort_of_first_uses(feature_mesh):
     assert order.size == 0 and rank.tolist() == [-1, -1]
     with pytest.raises(ValueError, match="faces: expected point numbers"):
         first_use_order(np.array([[0, 1, 2]]), 2)
+
+
+def test_triangle_areas_have_numpys_bits(feature_mesh):
+    from spatial.fea.surface_kernels import triangle_areas
+    from spatial.fea.surface_quality import _normals
+
+    rng = np.random.default_rng(7)
+    cases = [(np.asarray(feature_mesh.points, dtype=np.float64), mesh_faces(feature_mesh)),
+             (rng.normal(size=(50, 3)) * 1e3, rng.integers(0, 50, size=(400, 3)))]  # repeated corners: area 0
+    for p, f in cases:
+        assert _same_bits(triangle_areas(p, f), 0.5 * np.linalg.norm(_normals(p, f), axis=1))
+    assert triangle_areas(cases[0][0], cases[0][1]).sum() == pytest.approx(13.67, abs=0.01)
+    assert triangle_areas(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)).shape == (0,)
+    with pytest.raises(ValueError, match="faces: expected point numbers"):
+        triangle_areas(np.zeros((2, 3)), np.array([[0, 1, 2]]))
+
+
+def test_corner_volumes_have_numpys_bits():
+    from spatial.fea.quality import tet_volumes
+    from spatial.fea.score_kernel import corner_volumes
+
+    rng = np.random.default_rng(11)
+    p = rng.normal(size=(300, 3)) * rng.uniform(1e-3, 1e3, size=(300, 1))
+    t = rng.integers(0, 300, size=(4000, 4))  # some repeated corners: volume 0
+    x = p[t]
+    e1, e2, e3 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], x[:, 3] - x[:, 0]
+    ref = np.einsum("ij,ij->i", e1, np.cross(e2, e3)) / 6.0
+    assert _same_bits(corner_volumes(p, t), ref) and _same_bits(tet_volumes(p, t), ref)
+    unit = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    assert tet_volumes(unit, [[0, 1, 2, 3]]).tolist() == [1 / 6] and corner_volumes(unit, t[:0]).shape == (0,)
