@@ -68,12 +68,31 @@ def cluster_mesh(mesh, size, size_field=None, move_centres=False):
                 clus.subdivide(nsub)
         clus.cluster(nclus)
         # Cluster centres are projected onto a solid later; without one, pyacvd moves them.
-        out = clus.create_mesh(moveclus=move_centres)
+        out = clus.create_mesh(moveclus=True) if move_centres else _cells_mesh(clus)
     pts, faces = np.asarray(out.points, dtype=np.float64), mesh_faces(out)
     if not _is_closed_manifold(faces):
         pts, faces = _repair(pts, faces)
     faces = _outward(pts, faces)
     return pts, faces
+
+
+def _cells_mesh(clus):
+    """``clus.create_mesh(moveclus=False)``: the mesh of pyacvd's cells, by pyacvd's own steps.
+
+    Only the triangles whose three corners lie in three different cells make a triangle of the
+    result; pyacvd sorts the cells of every triangle to find them (6 ms of the benchmark part's
+    77,000).  They are picked here by three comparisons and handed to pyacvd's `create_mesh` alone,
+    in their order, with the cells' normals of the whole mesh: its result is the same.
+    """
+    from pyacvd import clustering
+
+    mesh = clus.mesh
+    faces = mesh._connectivity_array.reshape(-1, 3)
+    c = clus.clusters[faces]
+    spans = (c[:, 0] != c[:, 1]) & (c[:, 1] != c[:, 2]) & (c[:, 0] != c[:, 2])
+    part = clustering.polydata_from_faces(mesh.points, faces[spans])
+    out = clustering.create_mesh(part, clus.area, clus.clusters, clus.cluster_norm, clus.nclus, False, True)
+    return out.clean()
 
 
 def _needs_cleaning(mesh) -> bool:

@@ -151,3 +151,17 @@ def test_corner_volumes_have_numpys_bits():
     assert _same_bits(corner_volumes(p, t), ref) and _same_bits(tet_volumes(p, t), ref)
     unit = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
     assert tet_volumes(unit, [[0, 1, 2, 3]]).tolist() == [1 / 6] and corner_volumes(unit, t[:0]).shape == (0,)
+
+
+def test_cells_mesh_is_pyacvds_mesh_of_the_cells(feature_mesh):
+    import pyacvd
+
+    from spatial.fea.surface_clusters import _cells_mesh, _clean_input
+
+    pts, faces, area = _clean_input(feature_mesh)
+    clus = pyacvd.Clustering(_polydata(pts, faces))
+    clus.cluster(int(round(1.1547 * area / 0.15 ** 2)))
+    ref, got = clus.create_mesh(moveclus=False), _cells_mesh(clus)
+    assert got.n_points == ref.n_points > 500
+    assert _same_bits(np.asarray(got.points), np.asarray(ref.points))
+    assert np.array_equal(mesh_faces(got), mesh_faces(ref))
