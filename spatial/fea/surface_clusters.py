@@ -87,7 +87,7 @@ def _cells_mesh(clus):
     from pyacvd import clustering
 
     mesh = clus.mesh
-    faces = mesh._connectivity_array.reshape(-1, 3)
+    faces = np.asarray(mesh.face_connectivity).reshape(-1, 3)
     c = clus.clusters[faces]
     spans = (c[:, 0] != c[:, 1]) & (c[:, 1] != c[:, 2]) & (c[:, 0] != c[:, 2])
     part = clustering.polydata_from_faces(mesh.points, faces[spans])
