@@ -407,7 +407,7 @@ def volume_on_finest(solid, finest, voxel_size, *, tolerance, progress=False):
     the estimate misses `tolerance` or the tolerance lies below `FEATURE_FLOOR`.
 
     It changes no global state (no warnings filters, unlike `_coarse_level`): it may run in a
-    thread beside other work, as `spatial.fea.tet_mesh` runs it beside the surface.
+    thread beside other work.
 
     Examples
     --------

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .facets import project_to_surface
+from .incidence import node_cells
 from .quality import dihedral_angles, radius_edge_ratio, tet_volumes
 from .slivers import boundary_faces
 
@@ -68,9 +69,7 @@ def slide_boundary_nodes(points, tets, solid, slide, min_dihedral, max_dihedral,
     if slide.size < len(pts):               # points the sliver pass inserted stay
         slide = np.concatenate([slide, np.zeros(len(pts) - slide.size, dtype=bool)])
     corners = tets[:, :4]
-    flat = corners.reshape(-1)
-    order = np.argsort(flat, kind="stable")
-    starts = np.searchsorted(flat[order], np.arange(len(pts) + 1))
+    order, starts = node_cells(corners, len(pts))
     bfaces, _, _ = boundary_faces(corners)
     on_b = np.zeros(len(pts), dtype=bool)
     on_b[bfaces.reshape(-1)] = True

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .facets import project_to_surface
+from .incidence import node_cells
 from .jacobian_bounds import jacobian_bezier, jacobian_sign
 from .quality import _EDGES, tet_volumes
 from .slivers import _SIDE_COMMON, _ragged, boundary_faces
@@ -291,9 +292,8 @@ def untangle_midnodes(points, tets10, free, *, active=None, rounds=60, seed=0, t
     slide = np.zeros(n, dtype=bool) if slide is None else np.asarray(slide, dtype=bool)
     mid = tets10[:, 4:]
     flat = mid.reshape(-1)
-    order = np.argsort(flat, kind="stable")
+    order, starts = node_cells(mid, n)
     tet_of = order // 6
-    starts = np.searchsorted(flat[order], np.arange(n + 1))
     ends = np.zeros((n, 2), dtype=np.int64)
     ends[flat] = tets10[:, :4][:, _EDGES].reshape(-1, 2)
     length = np.linalg.norm(pts[ends[:, 0]] - pts[ends[:, 1]], axis=1)

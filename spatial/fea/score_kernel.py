@@ -17,7 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["best_trials", "corner_measures", "element_scores", "moved_scores", "smoothing_set"]
+__all__ = ["best_trials", "corner_measures", "corner_volumes", "element_scores", "moved_scores", "radius_edge", "smoothing_set"]
 
 _OPP = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]], dtype=np.int64)
 _EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]], dtype=np.int64)
@@ -399,3 +399,78 @@ def corner_measures(points, tets):
     pts = np.ascontiguousarray(points, dtype=np.float64)
     t = np.ascontiguousarray(np.asarray(tets)[:, :4], dtype=np.int64)
     return _corner_measures(pts, t, _OPP, _EDGE_FACES)
+
+
+@njit(cache=True, nogil=True)
+def _radius_edge(points, tets, edges):
+    m = tets.shape[0]
+    out = np.empty(m)
+    for t in range(m):
+        p0, p1, p2, p3 = tets[t, 0], tets[t, 1], tets[t, 2], tets[t, 3]
+        a0, a1, a2 = points[p1, 0] - points[p0, 0], points[p1, 1] - points[p0, 1], points[p1, 2] - points[p0, 2]
+        b0, b1, b2 = points[p2, 0] - points[p0, 0], points[p2, 1] - points[p0, 1], points[p2, 2] - points[p0, 2]
+        c0, c1, c2 = points[p3, 0] - points[p0, 0], points[p3, 1] - points[p0, 1], points[p3, 2] - points[p0, 2]
+        # numpy's einsum sums a row of three as (x0 + x2) + x1; its norm as (x0 + x1) + x2
+        aa = (a0 * a0 + a2 * a2) + a1 * a1
+        bb = (b0 * b0 + b2 * b2) + b1 * b1
+        cc = (c0 * c0 + c2 * c2) + c1 * c1
+        bc0, bc1, bc2 = b1 * c2 - b2 * c1, b2 * c0 - b0 * c2, b0 * c1 - b1 * c0
+        ca0, ca1, ca2 = c1 * a2 - c2 * a1, c2 * a0 - c0 * a2, c0 * a1 - c1 * a0
+        ab0, ab1, ab2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+        n0 = aa * bc0 + bb * ca0 + cc * ab0
+        n1 = aa * bc1 + bb * ca1 + cc * ab1
+        n2 = aa * bc2 + bb * ca2 + cc * ab2
+        det = 2.0 * ((a0 * bc0 + a2 * bc2) + a1 * bc1)
+        r = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2) / max(abs(det), 1e-300)
+        emin = np.inf
+        for e in range(6):
+            p, q = tets[t, edges[e, 0]], tets[t, edges[e, 1]]
+            d0, d1, d2 = points[q, 0] - points[p, 0], points[q, 1] - points[p, 1], points[q, 2] - points[p, 2]
+            length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            if length < emin or length != length:
+                emin = length  # a NaN edge makes the minimum NaN, as numpy's
+                if length != length:
+                    break
+        out[t] = r / max(emin, 1e-300)
+    return out
+
+
+def radius_edge(points, tets):
+    """`quality.radius_edge_ratio` of the corner tetrahedra ``(m,)`` in one compiled pass, numpy's bits.
+
+    Examples
+    --------
+    >>> p = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float)
+    >>> round(float(radius_edge(p, np.array([[0, 1, 2, 3]]))[0]), 4)
+    0.6124
+    """
+    return _radius_edge(np.ascontiguousarray(points, dtype=np.float64),
+                        np.ascontiguousarray(np.asarray(tets)[:, :4], dtype=np.int64), _EDGES)
+
+
+@njit(cache=True, nogil=True)
+def _corner_volumes(points, tets):
+    m = tets.shape[0]
+    out = np.empty(m)
+    for t in range(m):
+        p0, p1, p2, p3 = tets[t, 0], tets[t, 1], tets[t, 2], tets[t, 3]
+        a0, a1, a2 = points[p1, 0] - points[p0, 0], points[p1, 1] - points[p0, 1], points[p1, 2] - points[p0, 2]
+        b0, b1, b2 = points[p2, 0] - points[p0, 0], points[p2, 1] - points[p0, 1], points[p2, 2] - points[p0, 2]
+        c0, c1, c2 = points[p3, 0] - points[p0, 0], points[p3, 1] - points[p0, 1], points[p3, 2] - points[p0, 2]
+        bc0, bc1, bc2 = b1 * c2 - b2 * c1, b2 * c0 - b0 * c2, b0 * c1 - b1 * c0
+        # numpy's einsum order over a row of three, from a sum of +0.0 (no -0.0 volume)
+        out[t] = (((0.0 + a0 * bc0) + a2 * bc2) + a1 * bc1) / 6.0
+    return out
+
+
+def corner_volumes(points, tets):
+    """Signed volumes ``(m,)`` of the corner tetrahedra, `quality.tet_volumes`'s numpy bits in one pass.
+
+    Examples
+    --------
+    >>> p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    >>> corner_volumes(p, np.array([[0, 1, 2, 3], [0, 2, 1, 3]])).round(6).tolist()
+    [0.166667, -0.166667]
+    """
+    return _corner_volumes(np.ascontiguousarray(points, dtype=np.float64),
+                           np.ascontiguousarray(np.asarray(tets)[:, :4], dtype=np.int64))

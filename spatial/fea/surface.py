@@ -29,7 +29,7 @@ from .surface_clusters import _outward, cluster_mesh
 from .surface_corners import exact_corners, snap_exact_corners
 from .surface_faces import face_clusters
 from .surface_quality import (SurfaceQuality, _deviation, _edges, _is_closed_manifold, _normals, _polydata,  # noqa: F401
-                              _triangle_angles, folded_triangles, mesh_faces, self_intersections, surface_quality)
+                              _triangle_angles, enclosed, folded_triangles, mesh_faces, self_intersections, surface_quality)
 
 __all__ = [
     "FacetField",
@@ -400,8 +400,8 @@ def _confined_surface(mesh, solid, size, split_sides, result, crossing):
     confined one pierces nothing, comes closer to that volume and has no angle under
     `SNAP_MIN_ANGLE`: ``(points, faces, nodes on corners and curves, surface)``, or None.  A wall as
     thick as `size` has free clusters spanning its whole section."""
-    want = abs(float(mesh.volume))
-    miss = abs(abs(float(result.volume)) - want) / max(want, 1e-300)
+    want = abs(enclosed(mesh))
+    miss = abs(abs(enclosed(result)) - want) / max(want, 1e-300)
     if not crossing and miss <= FACE_VOLUME_MISS:
         return None
     p, f, fixed = face_clusters(mesh, FacetField(solid, split_sides=split_sides), size)
@@ -411,7 +411,7 @@ def _confined_surface(mesh, solid, size, split_sides, result, crossing):
     p = _tangential_relax(solid, p, f, fixed)
     surface = _polydata(p, f)
     limit = max(miss, FACE_VOLUME_MISS) if crossing else miss
-    if abs(abs(float(surface.volume)) - want) / max(want, 1e-300) >= limit or _crossings(surface, solid) \
+    if abs(abs(enclosed(surface)) - want) / max(want, 1e-300) >= limit or _crossings(surface, solid) \
             or _triangle_angles(p, f).min() < SNAP_MIN_ANGLE:
         return None
     return p, f, int(fixed.sum()), surface

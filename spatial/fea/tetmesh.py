@@ -32,8 +32,8 @@ import numpy as np
 
 from implicit.solid import Solid, as_positive
 from .facets import FacetField
-from .surface import (_deviation, _is_closed_manifold, mesh_faces, project_to_surface, self_intersections,
-                      surface_for_fea)
+from .surface import (_deviation, _is_closed_manifold, enclosed as _enclosed, mesh_faces, project_to_surface,
+                      self_intersections, surface_for_fea)
 from .cavities import cavity_points
 from .curved import OFF_SURFACE, curve_boundary
 from .boundary_repair import slide_boundary_nodes
@@ -171,7 +171,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     corrected feature meshes at three levels, the error from their steps;
     `spatial.analysis.mass_solid.solid_volume`) to ``ESTIMATE_SHARE *
     volume_tolerance``: the finest level is the feature mesh the surface is
-    clustered from, the two coarser ones are meshed in a thread beside the
+    clustered from, the two coarser ones are meshed after the
     surface (`volume_on_finest`; levels of their own where it cannot serve,
     the mass properties at 128 cells where even those miss).  Not a figure
     derived from the mesh's boundary: a boundary that cuts a corner or misses
@@ -249,7 +249,7 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
             raise ValueError(f"surface: {crossing} triangles intersect others; TetGen needs a surface "
                              "free of self-intersections")
     spts = np.asarray(surface.points, dtype=np.float64)
-    enclosed = abs(float(surface.volume))
+    enclosed = abs(_enclosed(surface))
     expected_nodes = int(enclosed / (_REGULAR_VOLUME * size**3) / 5.0) + len(spts)
     cap = int(steiner_cap) if steiner_cap is not None else 20 * expected_nodes + 1000
     clock.append(time.perf_counter())
@@ -446,8 +446,6 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
     the first surface's feature mesh (`_solid_volume`).  Returns the surface, its size and
     ``(volume, relative error)``.
     """
-    from concurrent.futures import ThreadPoolExecutor
-
     from ..analysis.mass_solid import volume_on_finest
     from ..meshing.boundary import mesh as _mesh_solid
 
@@ -458,35 +456,31 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
         if field is None:
             # The feature mesh `surface_for_fea` starts from, made here so that the volume is measured on it too.
             feature = _mesh_solid(solid, voxel_size=size * factor / 4.0, features=True, progress=False)
-        with ThreadPoolExecutor(max_workers=1, thread_name_prefix="implicad-volume") as pool:
-            measured = None
-            if known[0] is None and feature is not None and _is_closed_manifold(mesh_faces(feature)):
-                # The volume's coarser levels are meshed beside the surface (the meshers' compiled
-                # passes release the interpreter's lock): the same figures as one after the other.
-                measured = pool.submit(volume_on_finest, solid, feature, size * factor / 4.0,
-                                       tolerance=ESTIMATE_SHARE * tolerance)
-            try:
-                if field is None:
-                    surface = surface_for_fea(solid, size=size * factor, feature_mesh=feature)
-                else:
-                    # Snapping and relaxing move vertices by up to a fraction of the size: the smallest one.
-                    graded = field.capped(size).scaled(factor)
-                    surface = graded_surface(solid, graded)  # capped locally where it crosses itself
-            except ValueError as exc:
-                if "self-intersecting" not in str(exc):
-                    raise
-                err = exc
-                surface = None
-            if known[0] is None:
-                got = None if measured is None else measured.result()
-                # where the surface's feature mesh cannot give it: levels of their own (no thread: they
-                # set warnings filters, which are global)
-                known = got if got is not None else _solid_volume(solid, None, tolerance)
+        try:
+            if field is None:
+                surface = surface_for_fea(solid, size=size * factor, feature_mesh=feature)
+            else:
+                # Snapping and relaxing move vertices by up to a fraction of the size: the smallest one.
+                graded = field.capped(size).scaled(factor)
+                surface = graded_surface(solid, graded)  # capped locally where it crosses itself
+        except ValueError as exc:
+            if "self-intersecting" not in str(exc):
+                raise
+            err = exc
+            surface = None
+        if known[0] is None:
+            got = None
+            if feature is not None and _is_closed_manifold(mesh_faces(feature)):
+                # The volume's coarser levels after the surface, not on a thread beside it: the two
+                # took turns at the interpreter's lock and both ran slower (the same figures either way).
+                got = volume_on_finest(solid, feature, size * factor / 4.0, tolerance=ESTIMATE_SHARE * tolerance)
+            # where the surface's feature mesh cannot give it: levels of their own
+            known = got if got is not None else _solid_volume(solid, None, tolerance)
         if surface is None:
             continue
         volume, allowed = known[0], (tolerance + known[1]) * order
         kept = surface, size * factor, known
-        if abs(abs(float(surface.volume)) - volume) <= allowed * max(abs(volume), 1e-300):
+        if abs(abs(_enclosed(surface)) - volume) <= allowed * max(abs(volume), 1e-300):
             return kept
     if kept is not None:
         return kept
