@@ -17,7 +17,7 @@ from .refine import _refine_on_edges
 from .cells_kernels import (min_max, min_max_rows, order_by_key, stage_counts, stage_fill, take_entries, take_nudged,
                             take_rows, ties)
 from .kernels import place_rows
-from .slab import _SlabJob, ahead_sizes, run_slabs
+from .slab import _SlabJob, run_slabs
 
 __all__ = ["mesh_cells"]
 
@@ -213,14 +213,12 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     bar = progress_bar(len(pieces), "mesh", progress, unit="slab")
 
     overlap = slab_threads == 2 and len(pieces) >= OVERLAP_MIN_SLABS
-    blocks_ahead, cells_ahead = ahead_sizes([p[0] for p in pieces], block, c, stride, 2 if overlap else 1)
 
     def tasks():
         for k in range(len(pieces)):
             sc, given, ring, ring_parents, extra = pieces[k]
             pieces[k] = None  # the slab's job holds what it needs
             job = _SlabJob(solid, origin, h, c, block, int(slabs[k]), stride, lip if usable else None)
-            job.blocks_ahead, job.cells_ahead = blocks_ahead[k], cells_ahead[k]
             yield job, (sc, given, (ring, ring_parents), centre_infer, extra)
             del sc, given, ring, ring_parents, extra
 

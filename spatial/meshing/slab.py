@@ -11,8 +11,8 @@ import numpy as np
 from .saddles import break_ties_marked
 from .arrays import ZERO_NUDGE, ZERO_TIE, _evaluate, _nudge, _settle_ties
 from .kernels import block_boxes, block_mask_held, count_needed, take_block_held
-from .slab_kernels import (blocks_with_ties, first_pass, merged_nodes, nudged_float32, second_pass, slab_block_count,
-                           slab_blocks, slab_codes, slab_needed, slab_samples)
+from .slab_kernels import (blocks_with_ties, first_pass, merged_nodes, nudged_float32, second_pass, slab_blocks,
+                           slab_codes, slab_needed, slab_samples)
 
 __all__ = []
 
@@ -61,12 +61,9 @@ class _SlabJob:
         self.B, self.P = block, block // c
         self.slab, self.stride, self.lip = slab, stride, lip
         self.x0 = slab * block
-        self.nbz = _key_side(stride, block)  # block keys: by * nbz + bz, the same in every slab
+        self.nbz = int(stride) // block + 3  # block keys: by * nbz + bz, the same in every slab
         self.capacity_hint = 1 << 16  # vertices the slab's buffers start with
         self.scratch = None  # a `_Scratch` lent by `run_slabs` (None: fresh arrays)
-        # the most blocks and cells of the slabs still to come that share this slab's scratch (this
-        # one included; `ahead_sizes`): its arrays are sized for them at once, not grown slab by slab
-        self.blocks_ahead = self.cells_ahead = 0
 
     # -- the parts -------------------------------------------------------------------------
     def _needed(self, cells):
@@ -104,12 +101,9 @@ class _SlabJob:
         keys, inv, lx, ly, lz, cells = slab_blocks(sc, int(self.slab), int(P), int(self.nbz))
         self.keys, self.nb, self.cl = keys, keys.shape[0], (inv, lx, ly, lz)
         self.bys, self.bzs = np.divmod(keys, self.nbz)
-        # the scratch's arrays sized for the largest slab still to come of those sharing it
-        grow_blocks = max(self.blocks_ahead / max(self.nb, 1), 1.0)
-        grow_cells = max(self.cells_ahead / max(sc.shape[0], 1), 1.0)
         if c == 2:
             # one compiled call: the codes from the ring, the signs the samples give, the needed count
-            code = _take(self.scratch, "code", (self.nb,) + (2 * P + 1,) * 3, np.uint8, grow_blocks)
+            code = _take(self.scratch, "code", (self.nb,) + (2 * P + 1,) * 3, np.uint8)
             (ring_idx, ring_sgn), (par_idx, par_sgn) = (_rows_or_none(r) for r in ring)
             extra_idx, extra_val = _rows_or_none(extra, np.int64, np.float32)
             eb, ex, ey, ez, ev, n_need = slab_codes(
@@ -125,17 +119,17 @@ class _SlabJob:
         # positions within the slab's arrays fit 32 bits: halves the memory of the node lists
         itype = np.int32 if code.size < 2 ** 31 else np.int64
         # (the node lists are lent by the scratch: every kernel below writes all it reads of them)
-        flat = _take(self.scratch, "flat", (n_need,), itype, grow_cells)
-        s_n = _take(self.scratch, "s_n", (n_need,), np.int8, grow_cells)
+        flat = _take(self.scratch, "flat", (n_need,), itype)
+        s_n = _take(self.scratch, "s_n", (n_need,), np.int8)
         # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
-        maybe = _take(self.scratch, "maybe", (n_need,), np.bool_, grow_cells)
-        upper = _take(self.scratch, "upper", (n_need,), np.bool_, grow_cells)
-        v_n = _take(self.scratch, "v_n", (n_need,), np.float32, grow_cells)
+        maybe = _take(self.scratch, "maybe", (n_need,), np.bool_)
+        upper = _take(self.scratch, "upper", (n_need,), np.bool_)
+        v_n = _take(self.scratch, "v_n", (n_need,), np.float32)
         # nodes already sampled (never on a block face) hold their values: found through the row of
         # every needed node at its position, written into the slab's samples array (not filled before
         # `slab_samples` below; 32-bit rows fit it)
         sampled = given is not None or eb.shape[0]
-        where = (_take(self.scratch, "values", (code.size,), np.float32, grow_blocks).view(np.int32) if sampled
+        where = (_take(self.scratch, "values", (code.size,), np.float32).view(np.int32) if sampled
                  else _NO_WHERE)
         slab_needed(code.reshape(-1), B, flat, s_n, maybe, upper, inv, lx, ly, lz,
                     _NO_VALUES if given is None else given, eb, ex, ey, ez, ev, where, v_n)
@@ -175,7 +169,7 @@ class _SlabJob:
         # (the codes are spent: their memory holds the signs)
         rows, ru, pts = second_pass(a, b, rows, ru, flat, maybe, s_n, v_n, m_idx, ufirst, back, s_u, v_u,
                                     code.reshape(-1).view(np.int8), B, int(x0), y_base, z_base, origin, h,
-                                    _take(self.scratch, "ends", (n_need,), np.bool_, grow_cells))
+                                    _take(self.scratch, "ends", (n_need,), np.bool_))
         del code, a, b
         a, b, n = sample(pts, rows.shape[0])
         spent += n
@@ -183,7 +177,7 @@ class _SlabJob:
         # -- marching cubes: a sign-only node gets +-L h, an unused node 1 ------------------
         # (the upper plane goes to the next slab: values NaN where only the sign is known)
         scale = np.float32(self.lip * h if self.lip else h)
-        values = _take(self.scratch, "values", (self.nb * (B + 1) ** 3,), np.float32, grow_blocks)
+        values = _take(self.scratch, "values", (self.nb * (B + 1) ** 3,), np.float32)
         hid, hval, hsgn = slab_samples(a, b, rows, ru, flat, v_n, s_n, m_idx, back, v_u, values, scale, upper, B,
                                        int(x0), y_base, z_base, int(stride))
         values = values.reshape(self.nb, B + 1, B + 1, B + 1)
@@ -258,18 +252,14 @@ class _Scratch:
         self._buffers = None
         self._marks = None
 
-    def take(self, name, shape, dtype, grow=1.0):
-        """An array of `shape`, its first use writing all it reads; room for `grow` times as many
-        entries (the largest slab to come of those sharing the scratch: `_SlabJob.blocks_ahead`)."""
+    def take(self, name, shape, dtype):
         n = int(np.prod(shape))
-        want = int(n * grow)
         arr = self.arrays.get(name)
-        # made once for the largest slab to come (the page faults of fresh arrays cost more than
-        # filling them), with room to spare; given back when the slabs to come are much smaller (the
-        # last slabs are meshed when the parts are largest: no spare memory then)
-        if arr is None or arr.dtype != dtype or not n <= arr.shape[0] <= 2 * want + 4096:
+        # grown with room to spare; given back when the slabs get much smaller (the last slabs are
+        # meshed when the parts are largest: no spare memory then)
+        if arr is None or arr.dtype != dtype or not n <= arr.shape[0] <= 2 * n + 4096:
             self.arrays[name] = None
-            arr = np.empty(want + want // 4, dtype=dtype)
+            arr = np.empty(n + n // 4, dtype=dtype)
             self.arrays[name] = arr
         return arr[:n].reshape(shape)
 
@@ -288,31 +278,11 @@ class _Scratch:
         return self._buffers
 
 
-def _take(scratch, name, shape, dtype, grow=1.0):
-    """``np.empty(shape, dtype)``, from `scratch` when there is one (`_Scratch.take`)."""
+def _take(scratch, name, shape, dtype):
+    """``np.empty(shape, dtype)``, from `scratch` when there is one."""
     if scratch is None:
         return np.empty(shape, dtype=dtype)
-    return scratch.take(name, shape, dtype, grow)
-
-
-def _key_side(stride, block):
-    """Block keys ``by * side + bz`` of a lattice of node ids ``(x * stride + y) * stride + z``: the
-    same in every slab."""
-    return int(stride) // block + 3
-
-
-def ahead_sizes(slab_cells, block, cell_size, stride, pools):
-    """Per slab (its cells, in the order they are meshed), the most blocks and cells of the slabs
-    from it on that share its scratch: every `pools`-th slab (`run_slabs` lends two scratches in
-    turn when it overlaps, one otherwise).  Returns two lists, for `_SlabJob.blocks_ahead` and
-    `_SlabJob.cells_ahead`."""
-    P, side = block // cell_size, _key_side(stride, block)
-    blocks = [slab_block_count(sc, P, side) for sc in slab_cells]
-    cells = [int(sc.shape[0]) for sc in slab_cells]
-    for k in range(len(blocks) - 1 - pools, -1, -1):
-        blocks[k] = max(blocks[k], blocks[k + pools])
-        cells[k] = max(cells[k], cells[k + pools])
-    return blocks, cells
+    return scratch.take(name, shape, dtype)
 
 
 class _SlabBuffers:

@@ -207,21 +207,6 @@ def slab_blocks(sc, slab, P, nbz):
     return keys, inv, lx, ly, lz, cells
 
 
-@numba.njit(cache=True, nogil=True)
-def slab_block_count(sc, P, nbz):
-    """How many active blocks the cells `sc` of one slab make (`slab_blocks`' ``nb``, without the
-    blocks themselves): known for every slab before the first is sampled, it sizes the arrays the
-    slabs lend each other (`slab._Scratch`)."""
-    present = np.zeros(nbz * nbz, np.bool_)
-    nb = 0
-    for i in range(sc.shape[0]):
-        k = (sc[i, 1] // P) * nbz + sc[i, 2] // P
-        if not present[k]:
-            present[k] = True
-            nb += 1
-    return nb
-
-
 @numba.njit(cache=True, nogil=True, inline="always")
 def _known_sign(flat, base, v, infer, steps, thresholds):
     """OR the sign bit of a sampled node's value `v` into its code (flat position `base`) and, with

@@ -96,8 +96,8 @@ def test_lent_arrays_are_written_before_read(monkeypatch):
     clean = mesh(part, resolution=40, block=8, progress=False)
     take = slab_mod._Scratch.take
 
-    def dirty(self, name, shape, dtype, grow=1.0):
-        arr = take(self, name, shape, dtype, grow)
+    def dirty(self, name, shape, dtype):
+        arr = take(self, name, shape, dtype)
         arr.view(np.uint8)[...] = 0xFF  # NaN floats, all code bits, True masks
         return arr
 
@@ -107,49 +107,28 @@ def test_lent_arrays_are_written_before_read(monkeypatch):
     assert np.array_equal(np.asarray(clean.faces), np.asarray(soiled.faces))
 
 
-def test_slabs_sized_ahead_or_fresh_give_the_same_mesh(monkeypatch):
-    """Scratch arrays sized for the largest slab to come (slabs of very different sizes share them),
-    arrays grown slab by slab, and fresh arrays for every slab: one mesh, bit for bit."""
-    from spatial.meshing import cells as cells_mod, slab as slab_mod
+def test_lent_or_fresh_slab_arrays_give_the_same_mesh(monkeypatch):
+    """Scratch arrays lent across slabs of very different sizes, and fresh arrays for every slab: one
+    mesh, bit for bit, and one evaluation count."""
+    from spatial.meshing import slab as slab_mod
 
     part = sphere(1) - cylinder(0.5, 4, axis=(0, 0, 1)) - cylinder(0.3, 4, axis=(1, 0, 0))
-    ahead = mesh(part, resolution=48, block=8, features=False, progress=False)
     sizes = []
-    real = slab_mod.ahead_sizes
+    take = slab_mod._Scratch.take
 
-    def grown(slab_cells, block, cell_size, stride, pools):   # no look-ahead: each slab's own size
-        sizes.append(real(slab_cells, block, cell_size, stride, len(slab_cells)))
-        return [0] * len(slab_cells), [0] * len(slab_cells)
+    def spy(self, name, shape, dtype):
+        if name == "values":
+            sizes.append(int(np.prod(shape)))
+        return take(self, name, shape, dtype)
 
-    monkeypatch.setattr(cells_mod, "ahead_sizes", grown)
-    plain = mesh(part, resolution=48, block=8, features=False, progress=False)
-    blocks, cells = sizes[0]
-    assert len(blocks) >= 6 and max(blocks) >= 3 * min(blocks) and max(cells) >= 3 * min(cells)
-    monkeypatch.setattr(slab_mod, "_take", lambda scratch, name, shape, dtype, grow=1.0: np.empty(shape, dtype))
+    monkeypatch.setattr(slab_mod._Scratch, "take", spy)
+    lent = mesh(part, resolution=48, block=8, features=False, progress=False)
+    assert len(sizes) >= 12 and max(sizes) >= 3 * min(sizes)   # slabs of very different sizes
+    monkeypatch.setattr(slab_mod, "_take", lambda scratch, name, shape, dtype: np.empty(shape, dtype))
     fresh = mesh(part, resolution=48, block=8, features=False, progress=False)
-    for other in (plain, fresh):
-        assert np.array_equal(np.asarray(ahead.points), np.asarray(other.points))
-        assert np.array_equal(np.asarray(ahead.faces), np.asarray(other.faces))
-        assert int(ahead.field_data["evaluations"][0]) == int(other.field_data["evaluations"][0])
-
-
-def test_ahead_sizes_are_the_largest_slab_to_come_of_each_scratch():
-    from spatial.meshing.slab import ahead_sizes
-    from spatial.meshing.slab_kernels import slab_block_count
-
-    P = 4  # cells per block side (block 8, cells of 2 voxels)
-    rows = [[0, 0, 0], [0, 0, 1], [0, 5, 0], [1, 9, 9], [1, 9, 12]]
-    sc = np.array(rows, dtype=np.int64)
-    assert slab_block_count(sc, P, 8) == 4   # blocks (0,0), (1,0), (2,2), (2,3)
-    slabs = [sc[:k] for k in (1, 5, 2, 4, 3)]
-    counts = [slab_block_count(c, P, 8) for c in slabs]
-    assert counts == [1, 4, 1, 3, 2]
-    # node-id stride 40, blocks of 8 voxels: block keys by * 8 + bz, as above
-    blocks, cells = ahead_sizes(slabs, 8, 2, 40, 2)   # two scratches in turn: slabs 0, 2, 4 and 1, 3
-    assert cells == [3, 5, 3, 4, 3]
-    assert blocks == [2, 4, 2, 3, 2]
-    blocks, cells = ahead_sizes(slabs, 8, 2, 40, 1)
-    assert cells == [5, 5, 4, 4, 3] and blocks == [4, 4, 3, 3, 2]
+    assert np.array_equal(np.asarray(lent.points), np.asarray(fresh.points))
+    assert np.array_equal(np.asarray(lent.faces), np.asarray(fresh.faces))
+    assert int(lent.field_data["evaluations"][0]) == int(fresh.field_data["evaluations"][0])
 
 
 def test_mesh_samples_slabs_on_two_threads_and_mesh_cells_checks_the_count(monkeypatch):
