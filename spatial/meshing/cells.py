@@ -212,8 +212,6 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     n_blocks = 0
     bar = progress_bar(len(pieces), "mesh", progress, unit="slab")
 
-    overlap = slab_threads == 2 and len(pieces) >= OVERLAP_MIN_SLABS
-
     def tasks():
         for k in range(len(pieces)):
             sc, given, ring, ring_parents, extra = pieces[k]
@@ -223,6 +221,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
             del sc, given, ring, ring_parents, extra
 
     try:
+        overlap = slab_threads == 2 and len(pieces) >= OVERLAP_MIN_SLABS
         for nb, spent in run_slabs(tasks(), parts, overlap=overlap):
             n_blocks += nb
             evaluations += spent
