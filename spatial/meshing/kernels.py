@@ -144,9 +144,9 @@ def _scatter_2d(out, index, arr):
 
 
 @numba.njit(cache=True, nogil=True)
-def crossing_ends(sgn, flat, s_n, v_n, B):
+def crossing_ends(sgn, flat, s_n, v_n, B, out):
     """Needed nodes that end an edge of the blocks crossed by the surface (signs of opposite
-    strict signs) and still have no value.
+    strict signs) and still have no value, into `out` (as many as `flat`, every entry written).
 
     `sgn` is the slab's dense int8 scratch array, ``(nb, B+1, B+1, B+1)`` flattened: it is
     cleared and given the signs `s_n` of the needed nodes `flat` (sorted; 0 elsewhere).  The
@@ -157,7 +157,7 @@ def crossing_ends(sgn, flat, s_n, v_n, B):
     sgn[:] = 0
     for i in range(flat.shape[0]):
         sgn[flat[i]] = s_n[i]
-    out = np.zeros(flat.shape[0], np.bool_)
+    out[:] = False
     nb = sgn.shape[0] // (n1 * n1 * n1)
     sx = n1 * n1
     i = 0
@@ -190,7 +190,6 @@ def crossing_ends(sgn, flat, s_n, v_n, B):
                     hit = True
                 out[i] = hit
             i += 1
-    return out
 
 
 @numba.njit(cache=True, nogil=True)

@@ -9,7 +9,7 @@ import threading
 import numpy as np
 
 from .saddles import break_ties_marked
-from .arrays import ZERO_NUDGE, ZERO_TIE, _evaluate, _nudge, _release_free_memory, _settle_ties
+from .arrays import ZERO_NUDGE, ZERO_TIE, _evaluate, _nudge, _settle_ties
 from .kernels import block_boxes, block_mask_held, count_needed, take_block_held
 from .slab_kernels import (blocks_with_ties, first_pass, merged_nodes, nudged_float32, second_pass, slab_blocks,
                            slab_codes, slab_needed, slab_samples)
@@ -118,18 +118,21 @@ class _SlabJob:
         # -- the needed nodes as a list, with their values where already sampled -----------------
         # positions within the slab's arrays fit 32 bits: halves the memory of the node lists
         itype = np.int32 if code.size < 2 ** 31 else np.int64
-        flat = np.empty(n_need, dtype=itype)
-        s_n = np.empty(n_need, dtype=np.int8)
+        # (the node lists are lent by the scratch: every kernel below writes all it reads of them)
+        flat = _take(self.scratch, "flat", (n_need,), itype)
+        s_n = _take(self.scratch, "s_n", (n_need,), np.int8)
         # nodes on a y/z block face or on the lower x plane may be needed twice: merge by id
-        maybe = np.empty(n_need, dtype=np.bool_)
-        upper = np.empty(n_need, dtype=np.bool_)
+        maybe = _take(self.scratch, "maybe", (n_need,), np.bool_)
+        upper = _take(self.scratch, "upper", (n_need,), np.bool_)
+        v_n = _take(self.scratch, "v_n", (n_need,), np.float32)
         # nodes already sampled (never on a block face) hold their values: found through the row of
         # every needed node at its position, written into the slab's samples array (not filled before
         # `slab_samples` below; 32-bit rows fit it)
         sampled = given is not None or eb.shape[0]
-        where = _take(self.scratch, "values", (code.size,), np.float32).view(np.int32) if sampled else _NO_WHERE
-        v_n = slab_needed(code.reshape(-1), B, flat, s_n, maybe, upper, inv, lx, ly, lz,
-                          _NO_VALUES if given is None else given, eb, ex, ey, ez, ev, where)
+        where = (_take(self.scratch, "values", (code.size,), np.float32).view(np.int32) if sampled
+                 else _NO_WHERE)
+        slab_needed(code.reshape(-1), B, flat, s_n, maybe, upper, inv, lx, ly, lz,
+                    _NO_VALUES if given is None else given, eb, ex, ey, ez, ev, where, v_n)
         del where, eb, ex, ey, ez, ev
         y_base = (self.bys * B).astype(np.int64)
         z_base = (self.bzs * B).astype(np.int64)
@@ -165,7 +168,8 @@ class _SlabJob:
         # (before marching cubes, which resolves its ambiguous faces and cubes from the values)
         # (the codes are spent: their memory holds the signs)
         rows, ru, pts = second_pass(a, b, rows, ru, flat, maybe, s_n, v_n, m_idx, ufirst, back, s_u, v_u,
-                                    code.reshape(-1).view(np.int8), B, int(x0), y_base, z_base, origin, h)
+                                    code.reshape(-1).view(np.int8), B, int(x0), y_base, z_base, origin, h,
+                                    _take(self.scratch, "ends", (n_need,), np.bool_))
         del code, a, b
         a, b, n = sample(pts, rows.shape[0])
         spent += n
@@ -362,9 +366,9 @@ def run_slabs(tasks, parts, overlap=False):
             job.capacity_hint = max(job.capacity_hint, made + made // 4)
             made = job.mesh(cells, values, parts)
             del cells, values
-            # the slab's temporaries go back to the system before the next slab's are made:
-            # otherwise the heap they leave fragmented adds to the peak under the growing parts
-            _release_free_memory()
+            # (the slab's temporaries stay in the heap for the next slab: handed back to the system
+            # and faulted in again, slab after slab, they cost more system time than the slab's own
+            # work -- 2.3 s of 11 s CPU at N=1024 -- for 2 % of the peak)
             yield job.nb, spent
         return
     ready = queue.Queue()
@@ -413,7 +417,6 @@ def run_slabs(tasks, parts, overlap=False):
             made = job.mesh(cells, values, parts)
             del cells, values
             slots.release()
-            _release_free_memory()
             yield job.nb, spent
     finally:
         stop.set()

@@ -303,20 +303,19 @@ def slab_codes(sc, inv, lx, ly, lz, keys, nbz, slab, P, ring_idx, ring_sgn, par_
 
 
 @numba.njit(cache=True, nogil=True)
-def slab_needed(code, B, flat, s_n, maybe, upper, inv, lx, ly, lz, given, eb, ex, ey, ez, ev, where):
+def slab_needed(code, B, flat, s_n, maybe, upper, inv, lx, ly, lz, given, eb, ex, ey, ez, ev, where, v_n):
     """The needed nodes of the slab's flat codes (`needed_nodes`, into arrays sized by `slab_codes`)
     and their values where already sampled -- at the cells' centres `given` (none when empty), then
     the nodes ``(eb, ex, ey, ez, ev)`` -- found through the flat scratch `where` (`put_sampled`):
-    returns ``v_n`` (NaN where not sampled)."""
+    into ``v_n`` (as many as `flat`; NaN where not sampled, every entry written)."""
     needed_nodes(code, B, flat, s_n, maybe, upper)
-    v_n = np.full(flat.shape[0], np.nan, np.float32)
+    v_n[:] = np.nan
     if given.shape[0] or eb.shape[0]:
         index_positions(flat, where)
         if given.shape[0]:
             put_sampled(flat, where, inv, 2 * lx + 1, 2 * ly + 1, 2 * lz + 1, given, B + 1, v_n)
         if eb.shape[0]:
             put_sampled(flat, where, eb, ex, ey, ez, ev, B + 1, v_n)
-    return v_n
 
 
 @numba.njit(cache=True, nogil=True)
@@ -378,11 +377,11 @@ def first_pass(flat, maybe, s_n, m_idx, ufirst, s_u, B, x0, ybase, zbase, origin
 
 @numba.njit(cache=True, nogil=True)
 def second_pass(a, b, rows, ru, flat, maybe, s_n, v_n, m_idx, ufirst, back, s_u, v_u, code, B, x0, ybase, zbase,
-                origin, h):
+                origin, h, w_n):
     """Pass 1's values `a` (single `rows`) and `b` (unique nodes `ru`) written with their signs and
     copied to every merged row; then the nodes of pass 2 -- the ends of crossing edges still without
-    a value (`crossing_ends`, over the spent node codes `code`) -- as ``(single rows, unique merged
-    nodes, their positions)``."""
+    a value (`crossing_ends`, over the spent node codes `code`, into `w_n`: as many as `flat`) -- as
+    ``(single rows, unique merged nodes, their positions)``."""
     for i in range(rows.shape[0]):
         v_n[rows[i]] = a[i]
         s_n[rows[i]] = -1 if a[i] < 0 else 1
@@ -392,7 +391,7 @@ def second_pass(a, b, rows, ru, flat, maybe, s_n, v_n, m_idx, ufirst, back, s_u,
     for t in range(m_idx.shape[0]):
         s_n[m_idx[t]] = s_u[back[t]]
         v_n[m_idx[t]] = v_u[back[t]]
-    w_n = crossing_ends(code, flat, s_n, v_n, B)
+    crossing_ends(code, flat, s_n, v_n, B, w_n)
     w_u = np.zeros(s_u.shape[0], np.bool_)
     for t in range(m_idx.shape[0]):
         if w_n[m_idx[t]]:

@@ -107,6 +107,30 @@ def test_lent_arrays_are_written_before_read(monkeypatch):
     assert np.array_equal(np.asarray(clean.faces), np.asarray(soiled.faces))
 
 
+def test_lent_or_fresh_slab_arrays_give_the_same_mesh(monkeypatch):
+    """Scratch arrays lent across slabs of very different sizes, and fresh arrays for every slab: one
+    mesh, bit for bit, and one evaluation count."""
+    from spatial.meshing import slab as slab_mod
+
+    part = sphere(1) - cylinder(0.5, 4, axis=(0, 0, 1)) - cylinder(0.3, 4, axis=(1, 0, 0))
+    sizes = []
+    take = slab_mod._Scratch.take
+
+    def spy(self, name, shape, dtype):
+        if name == "values":
+            sizes.append(int(np.prod(shape)))
+        return take(self, name, shape, dtype)
+
+    monkeypatch.setattr(slab_mod._Scratch, "take", spy)
+    lent = mesh(part, resolution=48, block=8, features=False, progress=False)
+    assert len(sizes) >= 12 and max(sizes) >= 3 * min(sizes)   # slabs of very different sizes
+    monkeypatch.setattr(slab_mod, "_take", lambda scratch, name, shape, dtype: np.empty(shape, dtype))
+    fresh = mesh(part, resolution=48, block=8, features=False, progress=False)
+    assert np.array_equal(np.asarray(lent.points), np.asarray(fresh.points))
+    assert np.array_equal(np.asarray(lent.faces), np.asarray(fresh.faces))
+    assert int(lent.field_data["evaluations"][0]) == int(fresh.field_data["evaluations"][0])
+
+
 def test_mesh_samples_slabs_on_two_threads_and_mesh_cells_checks_the_count(monkeypatch):
     import spatial.meshing.cells as cells_mod
     from spatial.meshing.cells import mesh_cells
