@@ -102,11 +102,11 @@ def operand_flags(tape: Tape, lo: np.ndarray, hi: np.ndarray, record: Callable) 
     # A little slack for rounding in the values compared.
     radius = radius * (1.0 + 1e-12) + 1e-12
     values = record(np.ascontiguousarray(centre))
-    for node, frame, slots, entries in tape.groups:
-        if frame is None or len(slots) != len(node.children):
+    for (node, _, slots, entries), bounds in zip(tape.groups, tape.group_bounds):
+        if bounds is None:
             continue
-        scale = radius * np.linalg.norm(frame[0], 2)
-        lips = np.array([c.lipschitz for c in node.children])[:, None]
+        norm, lips = bounds
+        scale = radius * norm
         v = values[slots]
         vmin = v - lips * scale
         vmax = v + lips * scale

@@ -321,14 +321,19 @@ class Tape:
         The pruning flags in the order of the skips.
     groups : list of (node, frame, store slots)
         Prunable nodes with the store slot of each operand.
+    group_bounds : list of (float, (c, 1) float) or None
+        For each group whose operands are all stored and lie in a known
+        frame: the spectral norm of the frame's linear part and the operands'
+        Lipschitz constants (the factors of their bounds over a box); None
+        for the others.
     opaque : list of (node, maps)
         Nodes of kinds without a rule, read as input columns.
     input_flags : list of (f,) int64
         For every input, the flags whose skips enclose it.
     """
 
-    __slots__ = ("code", "record", "consts", "flags", "groups", "result", "nreg", "nstore", "opaque",
-                 "input_flags")
+    __slots__ = ("code", "record", "consts", "flags", "groups", "group_bounds", "result", "nreg", "nstore",
+                 "opaque", "input_flags")
 
     def __init__(self, solid: Solid, *, prune: bool = True):
         gen = KernelSource(prune=prune)
@@ -338,6 +343,12 @@ class Tape:
         self.consts = np.array(gen.consts + [0.0], dtype=np.float64)
         self.flags = gen.flags
         self.groups = gen.groups
+        # Once per tape: every pruned evaluation bounds the same groups, and
+        # the spectral norm is an SVD.
+        self.group_bounds = [
+            None if frame is None or len(slots) != len(node.children)
+            else (float(np.linalg.norm(frame[0], 2)), np.array([c.lipschitz for c in node.children])[:, None])
+            for node, frame, slots, _ in self.groups]
         self.nstore = gen.nstore
         self.opaque = gen.opaque
         self.code = _drop(code, _STORE)

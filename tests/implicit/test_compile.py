@@ -392,3 +392,21 @@ def test_calls_from_several_threads_at_once():
         results = list(pool.map(lambda p: compiled(p, prune=True), batches))
     for pts, values in zip(batches, results):
         np.testing.assert_allclose(values, fast._numpy_evaluate(part, pts), rtol=TOL, atol=TOL)
+
+
+def test_group_bounds_are_the_frames_norms_and_operands_lipschitz_constants():
+    # A union below a scale by 2: operand bounds grow with the frame's norm (1/2 in the operands'
+    # coordinates); a union of two spheres has Lipschitz constant 1 per operand.
+    inner = union(sphere(1.0), sphere(1.0, center=(3.0, 0.0, 0.0)))
+    tape = fast.Tape(inner.scale(2.0) - box(0.5))
+    assert len(tape.group_bounds) == len(tape.groups)
+    for (node, frame, slots, _), bounds in zip(tape.groups, tape.group_bounds):
+        if frame is None or len(slots) != len(node.children):
+            assert bounds is None
+            continue
+        norm, lips = bounds
+        assert norm == float(np.linalg.norm(frame[0], 2))
+        assert lips.shape == (len(node.children), 1)
+        assert lips[:, 0].tolist() == [c.lipschitz for c in node.children]
+    norms = sorted(b[0] for b in tape.group_bounds if b is not None)
+    assert norms[0] == pytest.approx(0.5) and norms[-1] == pytest.approx(1.0)
