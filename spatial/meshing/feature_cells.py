@@ -1,20 +1,24 @@
 """Compiled walks of every vertex and triangle in the sharp-feature rebuild (`spatial.meshing.features`):
 the vertices at lattice nodes, and the candidate cells found by runs of one cell's triangles and
 grouped by one hash probe per run and a counting sort (the walks over the candidate cells alone are
-in `feature_kernels`)."""
+in `feature_kernels`).  Each walk takes a chunk of the vertices, triangles or runs, and `nodes` and
+`cells` run the chunks on two threads (`feature_threads`), with the serial walk's result bit for bit."""
 
 from __future__ import annotations
+
+from functools import partial
 
 import numba
 import numpy as np
 
+from .feature_threads import CHUNKS, on_threads, spans
+
 @numba.njit(cache=True, nogil=True)
-def _at_node(pts, origin, h, node_tol, at, axis):
-    """Vertices within `node_tol` voxels of a lattice node in every coordinate (into `at`), and the axis
-    of each one's lattice edge (into `axis`: the coordinate farthest from the node; -1 when it sits on
-    the node exactly)."""
-    n = pts.shape[0]
-    for v in range(n):
+def _at_node(pts, v0, v1, origin, h, node_tol, at, axis):
+    """Vertices `v0:v1` within `node_tol` voxels of a lattice node in every coordinate (into `at`), and
+    the axis of each one's lattice edge (into `axis`: the coordinate farthest from the node; -1 when it
+    sits on the node exactly)."""
+    for v in range(v0, v1):
         axis[v] = -1
         far = 0.0
         for j in range(3):
@@ -35,61 +39,185 @@ def _tri_normal(pts, a, b, c):
 
 
 @numba.njit(cache=True, nogil=True)
-def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked):
-    """The runs of triangles of one lattice cell and whether one of a run's triangles departs from a
-    vertex normal, in one pass each; the vertex normals go into `vn` (overwritten).
+def _border_nodes(faces, t0, t1, at_node, axis, out):
+    """Vertices at a node (on a lattice edge) in a triangle of `t0:t1` that also has an ordinary vertex
+    (into `out`, all False: each chunk its own array, merged by the caller)."""
+    for t in range(t0, t1):
+        k = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
+        if 0 < k < 3:
+            for j in range(3):
+                v = faces[t, j]
+                if at_node[v] and axis[v] >= 0:
+                    out[v] = True
 
-    A run is a maximal stretch of consecutive triangles of one cell (the
-    merged mesh keeps a cell's triangles together: about one run per cell).
-    Run ``r`` holds the triangles ``run_start[r]:run_start[r + 1]`` of cell
-    key ``run_key[r]``; `run_marked` says whether one of them is marked.
-    Returns the number of runs, the corner and the stride of the keys.
-    """
-    m = faces.shape[0]
-    n = pts.shape[0]
-    # cell keys ``(i * s + j) * s + k`` from a corner below every vertex: the order of the keys is the
-    # cells' lexicographic order whatever the corner and the stride, as long as they cover the mesh
-    lo = np.empty(3, np.int64)
-    s = np.int64(1)
-    bottom = np.full(3, np.inf)
-    top = np.full(3, -np.inf)
-    for v in range(n):
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _slot(k, mask):
+    """Hash slot of a cell key (Fibonacci multiply, high bits folded down: keys come in runs)."""
+    x = k * np.int64(-7046029254386353131)
+    return (x ^ (x >> 31)) & mask
+
+
+# -- the pass's stages, each one compiled function (one cache load each in a fresh process) ------
+# (written without numba's array expressions and `np.unique`: loading a kernel that uses them imports
+# numba's ufunc and list modules, some 0.03 s of a fresh process that the plain mesh never pays)
+
+@numba.njit(cache=True, nogil=True)
+def _sorted_unique(a):
+    """The distinct values of `a`, ascending (`np.unique`; `a` is sorted in place)."""
+    a.sort()
+    k = 0
+    for i in range(a.shape[0]):
+        if i == 0 or a[i] != a[k - 1]:
+            a[k] = a[i]
+            k += 1
+    return a[:k].copy()
+
+
+
+
+@numba.njit(cache=True, nogil=True)
+def _merge_unique(a, b):
+    """The distinct values of two ascending arrays of distinct values, ascending."""
+    out = np.empty(a.shape[0] + b.shape[0], a.dtype)
+    i = j = k = 0
+    while i < a.shape[0] or j < b.shape[0]:
+        if j == b.shape[0] or (i < a.shape[0] and a[i] < b[j]):
+            out[k] = a[i]
+            i += 1
+        elif i == a.shape[0] or b[j] < a[i]:
+            out[k] = b[j]
+            j += 1
+        else:
+            out[k] = a[i]
+            i += 1
+            j += 1
+        k += 1
+    return out[:k].copy()
+
+
+# -- the candidate cells: chunks of vertices, triangles and runs ---------------------------------
+# A run is a maximal stretch of consecutive triangles of one lattice cell (the merged mesh keeps a
+# cell's triangles together: about one run per cell).  The chunk of triangles `t0:t1` writes its runs
+# from row `t0` of the run arrays (a chunk has no more runs than triangles): its runs are rows
+# ``t0:t0 + count`` and the last one ends at ``run_start[t0 + count]``.  A cell's triangles split
+# across two chunks make two runs of one key, which group as the one run would.
+
+@numba.njit(cache=True, nogil=True)
+def _bounds(pts, v0, v1, vn, box):
+    """The least and greatest coordinates of vertices `v0:v1` into `box` (2, 3) (inf and -inf for none),
+    their rows of the vertex normals `vn` zeroed."""
+    for j in range(3):
+        box[0, j] = np.inf
+        box[1, j] = -np.inf
+    for v in range(v0, v1):
         for j in range(3):
             vn[v, j] = 0.0
             q = pts[v, j]
-            if q < bottom[j]:
-                bottom[j] = q
-            if q > top[j]:
-                top[j] = q
+            if q < box[0, j]:
+                box[0, j] = q
+            if q > box[1, j]:
+                box[1, j] = q
+
+
+@numba.njit(cache=True, nogil=True)
+def _key_frame(boxes, origin, h):
+    """The corner and stride of the cell keys ``(i * s + j) * s + k`` from the chunks' bounds (k, 2, 3):
+    a corner below every vertex, so that the keys' order is the cells' lexicographic order."""
+    lo = np.empty(3, np.int64)
+    s = np.int64(1)
     for j in range(3):
-        lo[j] = np.int64(np.floor((bottom[j] - origin[j]) / h)) - 1
-        span = np.int64(np.floor((top[j] - origin[j]) / h)) - lo[j] + 2
+        bottom, top = np.inf, -np.inf
+        for c in range(boxes.shape[0]):
+            if boxes[c, 0, j] < bottom:
+                bottom = boxes[c, 0, j]
+            if boxes[c, 1, j] > top:
+                top = boxes[c, 1, j]
+        lo[j] = np.int64(np.floor((bottom - origin[j]) / h)) - 1
+        span = np.int64(np.floor((top - origin[j]) / h)) - lo[j] + 2
         if span > s:
             s = span
+    return lo, s
+
+
+@numba.njit(cache=True, nogil=True)
+def _walk(pts, faces, t0, t1, origin, h, lo, s, vn, skip, run_start, run_key, run_marked):
+    """Triangles `t0:t1`: their normals added to `vn` at the vertices no earlier triangle holds, and
+    their runs (from row `t0`).
+
+    `skip` (n,) bool, all False, is set here for the vertices of the triangles before `t0`: those
+    vertices' sums belong to an earlier chunk, which must add its triangles first, so the triangles
+    of this chunk are added to them afterwards (`_add_skipped`) and each sum is made in triangle
+    order, as one walk makes it.  Returns the number of runs and the first and last triangle holding
+    a skipped vertex (``t1, t0 - 1`` for none).
+    """
+    for t in range(t0):
+        skip[faces[t, 0]] = True
+        skip[faces[t, 1]] = True
+        skip[faces[t, 2]] = True
+    first, last = t1, t0 - 1
     third = 1.0 / 3.0
     n_runs = 0
-    for t in range(m):
+    for t in range(t0, t1):
         # (unsigned indices: numba then skips the wrap-around test of negative ones at every access)
         a, b, c = np.uint64(faces[t, 0]), np.uint64(faces[t, 1]), np.uint64(faces[t, 2])
         cx, cy, cz = _tri_normal(pts, a, b, c)
-        vn[a, 0] += cx; vn[a, 1] += cy; vn[a, 2] += cz
-        vn[b, 0] += cx; vn[b, 1] += cy; vn[b, 2] += cz
-        vn[c, 0] += cx; vn[c, 1] += cy; vn[c, 2] += cz
+        if skip[a] or skip[b] or skip[c]:
+            if first == t1:
+                first = t
+            last = t
+        if not skip[a]:
+            vn[a, 0] += cx; vn[a, 1] += cy; vn[a, 2] += cz
+        if not skip[b]:
+            vn[b, 0] += cx; vn[b, 1] += cy; vn[b, 2] += cz
+        if not skip[c]:
+            vn[c, 0] += cx; vn[c, 1] += cy; vn[c, 2] += cz
         k = np.int64(0)
         for j in range(3):
             q = (pts[a, j] + pts[b, j] + pts[c, j]) * third
             k = k * s + np.int64(np.floor((q - origin[j]) / h)) - lo[j]
-        if n_runs == 0 or run_key[n_runs - 1] != k:
-            run_start[n_runs] = t
-            run_key[n_runs] = k
-            run_marked[n_runs] = False
+        if n_runs == 0 or run_key[t0 + n_runs - 1] != k:
+            run_start[t0 + n_runs] = t
+            run_key[t0 + n_runs] = k
+            run_marked[t0 + n_runs] = False
             n_runs += 1
-    run_start[n_runs] = m
-    for v in range(n):
+    # (a full chunk's end is the next chunk's first start, written there)
+    if t0 + n_runs < t1:
+        run_start[t0 + n_runs] = t1
+    return n_runs, first, last
+
+
+@numba.njit(cache=True, nogil=True)
+def _add_skipped(pts, faces, first, last, vn, skip):
+    """The normals of triangles `first:last + 1` added to the vertices `skip` marks, in order."""
+    for t in range(first, last + 1):
+        a, b, c = np.uint64(faces[t, 0]), np.uint64(faces[t, 1]), np.uint64(faces[t, 2])
+        cx, cy, cz = _tri_normal(pts, a, b, c)
+        if skip[a]:
+            vn[a, 0] += cx; vn[a, 1] += cy; vn[a, 2] += cz
+        if skip[b]:
+            vn[b, 0] += cx; vn[b, 1] += cy; vn[b, 2] += cz
+        if skip[c]:
+            vn[c, 0] += cx; vn[c, 1] += cy; vn[c, 2] += cz
+
+
+@numba.njit(cache=True, nogil=True)
+def _normalize(vn, v0, v1, index):
+    """Rows `v0:v1` of the vertex normals made unit (zero ones left), and of `index` set to -1."""
+    for v in range(v0, v1):
+        index[v] = -1
         r = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
         if r > 0:
             vn[v, 0] /= r; vn[v, 1] /= r; vn[v, 2] /= r
-    for q in range(n_runs):
+
+
+@numba.njit(cache=True, nogil=True)
+def _mark(pts, faces, cos_limit, at_node, vn, run_start, run_key, run_marked, q0, q1):
+    """Runs `q0:q1` holding a triangle whose normal departs from a vertex normal (`run_marked`); returns
+    their distinct keys, ascending."""
+    keys = np.empty(q1 - q0, np.int64)
+    n_keys = 0
+    for q in range(q0, q1):
         for t in range(run_start[q], run_start[q + 1]):
             # (the triangle's normal again, the same bits: cheaper than storing every one)
             a, b, c = np.uint64(faces[t, 0]), np.uint64(faces[t, 1]), np.uint64(faces[t, 2])
@@ -115,109 +243,102 @@ def _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, r
                 # they leave may bend less than the normals' test sees
                 if worst < cos_limit or (n_node > 0 and n_node < 3):
                     run_marked[q] = True
+                    keys[n_keys] = run_key[q]
+                    n_keys += 1
                     break       # the run's cell is a candidate: its other triangles need no test
-    return n_runs, lo, s
+    return _sorted_unique(keys[:n_keys])
 
 
-@numba.njit(cache=True, nogil=True)
-def _border_nodes(faces, at_node, axis):
-    """Vertices at a node (on a lattice edge) in a triangle that also has an ordinary vertex."""
-    out = np.zeros(at_node.shape[0], np.bool_)
-    for t in range(faces.shape[0]):
-        k = at_node[faces[t, 0]] + at_node[faces[t, 1]] + at_node[faces[t, 2]]
-        if 0 < k < 3:
-            for j in range(3):
-                v = faces[t, j]
-                if at_node[v] and axis[v] >= 0:
-                    out[v] = True
-    return out
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _slot(k, mask):
-    """Hash slot of a cell key (Fibonacci multiply, high bits folded down: keys come in runs)."""
-    x = k * np.int64(-7046029254386353131)
-    return (x ^ (x >> 31)) & mask
-
+# -- the candidate cells' triangles and vertices, grouped by cell without a global sort ----------
 
 @numba.njit(cache=True, nogil=True)
-def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
-    """The candidate cells' triangles and (cell, vertex) pairs, grouped by cell without a global sort.
-
-    `cells` is the sorted array of candidate cell keys, the runs those of
-    `_candidate_cells`.  Each run whose key may be a candidate's (a bit
-    array says which may) finds its cell by one probe of an
-    open-addressing table (the position in `cells` being the cell's index);
-    a counting sort groups the triangles by cell, in triangle order within
-    each, and each cell's few distinct vertices are sorted in place.  The
-    result is what ``np.unique`` and a stable ``argsort`` of the triangles'
-    cells would give.
-
-    Returns
-    -------
-    tri, tcell : the triangles in candidate cells, by cell, and the cell of each
-    pvert : the vertices of the (cell, vertex) pairs sorted (cell ``c``'s are ``starts[c]:starts[c + 1]``)
-    starts : (cells + 1,) first pair of every cell
-    verts, pinv : the distinct vertices (sorted) and each pair's index among them
-
-    `run_key` is overwritten (with each run's cell, -1 for none); `index`
-    (n,) int32 is left holding each vertex's position in `verts` (-1: none).
-    """
+def _cell_table(cells):
+    """An open-addressing table of the sorted candidate keys `cells` (each slot a position in `cells`,
+    -1 free) and a bit per slot of a table 8 to 16 times as large, set for the candidates' keys: most
+    runs are of no candidate and are told so by this small array (it stays in cache) without probing."""
     n_cells = cells.shape[0]
     size = 1
     while size < 2 * n_cells + 2:
         size *= 2
-    mask = size - 1
     table = np.full(size, -1, np.int64)
-    # a bit per slot of a table 8 to 16 times as large, set for the candidates' keys: most runs are of no
-    # candidate and are told so by this small array (it stays in cache) without probing the table
     bits = 8
     while bits < 8 * n_cells + 8:
         bits *= 2
-    fmask = bits - 1
     seen = np.zeros(bits >> 3, np.uint8)
     for c in range(n_cells):
-        slot = _slot(cells[c], mask)
+        slot = _slot(cells[c], size - 1)
         while table[slot] >= 0:
-            slot = (slot + 1) & mask
+            slot = (slot + 1) & (size - 1)
         table[slot] = c
-        b = _slot(cells[c], fmask)
+        b = _slot(cells[c], bits - 1)
         seen[b >> 3] |= np.uint8(1 << (b & 7))
-    count = np.zeros(n_cells + 1, np.int64)
-    for q in range(n_runs):
+    return table, seen
+
+
+@numba.njit(cache=True, nogil=True)
+def _probe(run_start, run_key, q0, q1, cells, table, seen, count):
+    """Runs `q0:q1`: each one's key overwritten by its cell's position in `cells` (-1: no candidate),
+    and the triangles of each cell counted into ``count[c + 1]`` (zeros)."""
+    mask = table.shape[0] - 1
+    fmask = 8 * seen.shape[0] - 1
+    for q in range(q0, q1):
         k = run_key[q]
         here = -1
         b = _slot(k, fmask)
-        if not (seen[b >> 3] >> (b & 7)) & 1:
-            run_key[q] = here
-            continue
-        slot = _slot(k, mask)
-        while True:
-            c = table[slot]
-            if c < 0:
-                break
-            if cells[c] == k:
-                here = c
-                break
-            slot = (slot + 1) & mask
+        if (seen[b >> 3] >> (b & 7)) & 1:
+            slot = _slot(k, mask)
+            while True:
+                c = table[slot]
+                if c < 0:
+                    break
+                if cells[c] == k:
+                    here = c
+                    break
+                slot = (slot + 1) & mask
         run_key[q] = here
         if here >= 0:
             count[here + 1] += run_start[q + 1] - run_start[q]
-    for c in range(n_cells):
-        count[c + 1] += count[c]
-    n_tri = count[n_cells]
-    tri = np.empty(n_tri, np.int64)
-    tcell = np.empty(n_tri, np.int64)
-    fill = count[:n_cells].copy()
-    for q in range(n_runs):
+
+
+@numba.njit(cache=True, nogil=True)
+def _offsets(counts):
+    """From the chunks' counts (k, cells + 1): the first row of each cell, all chunks together (cells + 1,),
+    and each chunk's first row in each cell (k, cells), chunk after chunk."""
+    k, n1 = counts.shape
+    start = np.zeros(n1, np.int64)
+    for c in range(n1 - 1):
+        total = 0
+        for j in range(k):
+            total += counts[j, c + 1]
+        start[c + 1] = start[c] + total
+    fill = np.empty((k, n1 - 1), np.int64)
+    for c in range(n1 - 1):
+        r = start[c]
+        for j in range(k):
+            fill[j, c] = r
+            r += counts[j, c + 1]
+    return start, fill
+
+
+@numba.njit(cache=True, nogil=True)
+def _fill(run_start, run_key, q0, q1, fill, tri, tcell):
+    """The triangles of runs `q0:q1` of a candidate cell into their rows of `tri` and `tcell`."""
+    for q in range(q0, q1):
         c = run_key[q]
         if c >= 0:
+            r = fill[c]
             for t in range(run_start[q], run_start[q + 1]):
-                tri[fill[c]] = t
-                tcell[fill[c]] = c
-                fill[c] += 1
-    # each cell's distinct vertices, sorted (a cell holds a dozen at most: insertion sort)
-    buf = np.empty(3 * n_tri, np.int64)
+                tri[r] = t
+                tcell[r] = c
+                r += 1
+            fill[c] = r
+
+
+@numba.njit(cache=True, nogil=True)
+def _cell_vertices(tri, faces, count, n_cells):
+    """Each cell's distinct vertices, sorted (a cell holds a dozen at most: insertion sort), and the
+    first of each cell (cells + 1,)."""
+    buf = np.empty(3 * tri.shape[0], np.int64)
     starts = np.empty(n_cells + 1, np.int64)
     r = 0
     for c in range(n_cells):
@@ -241,57 +362,143 @@ def _group_cells(run_start, run_key, n_runs, cells, faces, n, index):
                 r += 1
     starts[n_cells] = r
     pvert = buf[:r]
-    for v in range(n):
-        index[v] = -1
-    n_verts = 0
-    for i in range(r):
-        if index[pvert[i]] < 0:
-            index[pvert[i]] = 0
-            n_verts += 1
-    # (numbered in one pass over the vertices, in their order: the distinct vertices come out sorted)
-    verts = np.empty(n_verts, np.int64)
+    return pvert, starts
+
+
+@numba.njit(cache=True, nogil=True)
+def _count_marked(index, v0, v1):
+    """How many of `index[v0:v1]` are 0 (the vertices of some candidate cell)."""
     k = 0
-    for v in range(n):
+    for v in range(v0, v1):
+        k += index[v] == 0
+    return k
+
+
+@numba.njit(cache=True, nogil=True)
+def _number(index, v0, v1, k, verts):
+    """The marked vertices of `v0:v1` numbered from `k` in their order (into `index` and `verts`), the
+    others' -1 left."""
+    for v in range(v0, v1):
         if index[v] == 0:
             index[v] = k
             verts[k] = v
             k += 1
-    pinv = np.empty(r, np.int64)
-    for i in range(r):
+
+
+@numba.njit(cache=True, nogil=True)
+def _mark_vertices(pvert, index):
+    """``index[v] = 0`` for the vertices of the (cell, vertex) pairs."""
+    for i in range(pvert.shape[0]):
+        index[pvert[i]] = 0
+
+
+@numba.njit(cache=True, nogil=True)
+def _pair_index(pvert, index):
+    """Each pair's vertex's position among the distinct vertices."""
+    pinv = np.empty(pvert.shape[0], np.int64)
+    for i in range(pvert.shape[0]):
         pinv[i] = index[pvert[i]]
-    return tri, tcell, pvert, starts, verts, pinv
+    return pinv
 
 
-# -- the pass's stages, each one compiled function (one cache load each in a fresh process) ------
-# (written without numba's array expressions and `np.unique`: loading a kernel that uses them imports
-# numba's ufunc and list modules, some 0.03 s of a fresh process that the plain mesh never pays)
+# -- the pass's walks over every vertex and triangle, chunk by chunk on two threads --------------
 
-@numba.njit(cache=True, nogil=True)
-def _sorted_unique(a):
-    """The distinct values of `a`, ascending (`np.unique`; `a` is sorted in place)."""
-    a.sort()
-    k = 0
-    for i in range(a.shape[0]):
-        if i == 0 or a[i] != a[k - 1]:
-            a[k] = a[i]
-            k += 1
-    return a[:k].copy()
+def nodes(pts, faces, origin, h, node_tol, at, axis, chunks=CHUNKS):
+    """The vertices at lattice nodes (`_at_node`, into `at` and `axis`) and, returned (n,) bool, those of
+    them in a triangle that also has an ordinary vertex (`_border_nodes`)."""
+    n, m = pts.shape[0], faces.shape[0]
+    on_threads([partial(_at_node, pts, a, b, origin, h, node_tol, at, axis) for a, b in spans(n, chunks)])
+    found = [np.zeros(n, np.bool_) for _ in range(chunks)]
+    on_threads([partial(_border_nodes, faces, a, b, at, axis, found[i]) for i, (a, b) in enumerate(spans(m, chunks))])
+    for more in found[1:]:
+        np.logical_or(found[0], more, out=found[0])
+    return found[0]
 
 
-@numba.njit(cache=True, nogil=True)
-def _nodes(pts, faces, origin, h, node_tol, at, axis):
-    """`_at_node` (into `at`, `axis`) and `_border_nodes` in one call."""
-    _at_node(pts, origin, h, node_tol, at, axis)
-    return _border_nodes(faces, at, axis)
+def cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked, index, chunks=CHUNKS):
+    """The candidate cells and their triangles and vertices, grouped by cell.
 
+    The vertex normals go into `vn` (n, 3) (overwritten); `run_start` (m + 1,),
+    `run_key` (m,) and `run_marked` (m,) are work arrays, `index` (n,) int32 is
+    left holding each vertex's position in `verts` (-1: none).  The walks run
+    in `chunks` chunks of vertices, triangles or runs (`feature_threads`); the
+    result is the same for every number of chunks.
 
-@numba.njit(cache=True, nogil=True)
-def _cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked, index):
-    """`_candidate_cells`, the sorted candidate keys and `_group_cells` in one call (the arrays after
-    `at_node` are the work arrays of those two, made by the caller: `run_start` (m + 1,), `run_key`
-    (m,), `run_marked` (m,), `index` (n,))."""
-    n_runs, lo, s = _candidate_cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run_marked)
-    cand = _sorted_unique(run_key[:n_runs][run_marked[:n_runs]])
-    tri, tcell, pvert, starts, verts, pinv = _group_cells(run_start, run_key, n_runs, cand, faces, pts.shape[0],
-                                                          index)
+    Returns
+    -------
+    cand : (c,) int64
+        The candidate cells' keys ``(i * s + j) * s + k``, ascending (cell
+        ``(i, j, k) + lo``).
+    lo : (3,) int64
+    s : int
+    tri, tcell : (t,) int64
+        The triangles in candidate cells, by cell (in triangle order within
+        each), and the cell of each.
+    pvert : (r,) int64
+        The vertices of the (cell, vertex) pairs sorted (cell ``c``'s are
+        ``starts[c]:starts[c + 1]``).
+    starts : (c + 1,) int64
+    verts, pinv : (u,) int64, (r,) int64
+        The distinct vertices (sorted) and each pair's index among them.
+    """
+    n, m = pts.shape[0], faces.shape[0]
+    vspans, tspans = spans(n, chunks), spans(m, chunks)
+    boxes = np.empty((len(vspans), 2, 3))
+    on_threads([partial(_bounds, pts, a, b, vn, boxes[i]) for i, (a, b) in enumerate(vspans)])
+    lo, s = _key_frame(boxes, origin, h)
+    skips = [np.zeros(n, np.bool_) for _ in tspans]
+    walked = on_threads([partial(_walk, pts, faces, a, b, origin, h, lo, s, vn, skips[i], run_start, run_key,
+                                 run_marked) for i, (a, b) in enumerate(tspans)])
+    for i in range(1, len(tspans)):
+        _, first, last = walked[i]
+        if last >= first:
+            _add_skipped(pts, faces, first, last, vn, skips[i])
+    del skips
+    run_start[m] = m
+    rspans = [(a, a + w[0]) for (a, _), w in zip(tspans, walked)]
+    on_threads([partial(_normalize, vn, a, b, index) for a, b in vspans])
+    keys = on_threads([partial(_mark, pts, faces, cos_limit, at_node, vn, run_start, run_key, run_marked, q0, q1)
+                       for q0, q1 in rspans])
+    cand = keys[0]
+    for k in keys[1:]:
+        cand = _merge_unique(cand, k)
+    n_cells = cand.shape[0]
+    empty = np.empty(0, np.int64)
+    if n_cells == 0:
+        return cand, lo, s, empty, empty, empty, np.zeros(1, np.int64), empty, empty
+    tri, tcell, pvert, starts, verts, pinv = group(run_start, run_key, rspans, cand, faces, index, vspans)
     return cand, lo, s, tri, tcell, pvert, starts, verts, pinv
+
+
+def group(run_start, run_key, rspans, cells, faces, index, vspans):
+    """The candidate cells' triangles and (cell, vertex) pairs, grouped by cell without a global sort.
+
+    `cells` is the sorted array of candidate cell keys; the runs are the
+    rows ``q0:q1`` of `run_start` and `run_key` for each ``(q0, q1)`` of
+    `rspans` (run ``q`` holds the triangles ``run_start[q]:run_start[q + 1]``).
+    Each run whose key may be a candidate's finds its cell by one probe of an
+    open-addressing table; a counting sort groups the triangles by cell, in
+    triangle order within each, and each cell's few distinct vertices are
+    sorted in place.  The result is what ``np.unique`` and a stable
+    ``argsort`` of the triangles' cells would give.  Each span of runs, and
+    of the vertices (`vspans`), is a chunk (`feature_threads`).
+
+    Returns ``tri, tcell, pvert, starts, verts, pinv`` as `cells` does;
+    `run_key` is overwritten (with each run's cell, -1 for none) and `index`
+    (n,) int32, all -1, is left holding each vertex's position in `verts`.
+    """
+    n_cells = cells.shape[0]
+    table, seen = _cell_table(cells)
+    counts = np.zeros((len(rspans), n_cells + 1), np.int64)
+    on_threads([partial(_probe, run_start, run_key, q0, q1, cells, table, seen, counts[i])
+                for i, (q0, q1) in enumerate(rspans)])
+    start, fill = _offsets(counts)
+    tri, tcell = np.empty(start[n_cells], np.int64), np.empty(start[n_cells], np.int64)
+    on_threads([partial(_fill, run_start, run_key, q0, q1, fill[i], tri, tcell) for i, (q0, q1) in enumerate(rspans)])
+    pvert, starts = _cell_vertices(tri, faces, start, n_cells)
+    _mark_vertices(pvert, index)
+    counted = on_threads([partial(_count_marked, index, a, b) for a, b in vspans])
+    verts = np.empty(sum(counted), np.int64)
+    first = np.cumsum([0] + counted[:-1])
+    on_threads([partial(_number, index, a, b, int(first[i]), verts) for i, (a, b) in enumerate(vspans)])
+    return tri, tcell, pvert, starts, verts, _pair_index(pvert, index)

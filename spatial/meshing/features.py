@@ -90,7 +90,7 @@ from __future__ import annotations
 import numpy as np
 
 from .feature_collapse import finish
-from .feature_cells import _cells, _nodes
+from .feature_cells import cells as _cells, nodes as _nodes
 from .feature_kernels import _cell_faces, _facing_kernel, _fan_rows, _flip_fans, _newton_step, _solve_cells
 
 __all__ = ["sharpen", "sharp_polydata", "sharp_polydata_lent", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]

@@ -6,7 +6,8 @@ from parts import benchmark_part
 
 from spatial.meshing import mesh
 from spatial.meshing.feature_collapse import finish
-from spatial.meshing.feature_cells import _candidate_cells, _group_cells, _sorted_unique
+from spatial.meshing.feature_cells import _merge_unique, _sorted_unique, cells, group, nodes
+from spatial.meshing.feature_threads import on_threads, spans
 from spatial.meshing.features import COS_CANDIDATE, sharp_polydata, sharp_polydata_lent, sharpen
 
 
@@ -46,8 +47,17 @@ def _runs(keys):
     return np.r_[start, keys.shape[0]].astype(np.int64), keys[start].astype(np.int64)
 
 
-def test_group_cells_by_runs_is_the_stable_sort():
-    """Cells whose triangles come in several runs (not side by side) are grouped as a stable sort does."""
+def test_merge_unique_is_numpy_unique():
+    rng = np.random.default_rng(5)
+    for na, nb in ((0, 0), (0, 4), (5, 0), (30, 40)):
+        a, b = np.unique(rng.integers(0, 50, na)), np.unique(rng.integers(0, 50, nb))
+        assert np.array_equal(_merge_unique(a, b), np.union1d(a, b))
+
+
+@pytest.mark.parametrize("cut", [[], [0], [3], [3, 3], [1, 20, 77], [149]])
+def test_group_cells_by_runs_is_the_stable_sort(cut):
+    """Cells whose triangles come in several runs (not side by side) are grouped as a stable sort does,
+    whatever the runs' and vertices' chunks (empty ones too)."""
     rng = np.random.default_rng(7)
     n, m = 60, 400
     faces = rng.integers(0, n, (m, 3)).astype(np.int32)
@@ -55,40 +65,103 @@ def test_group_cells_by_runs_is_the_stable_sort():
     faces = faces[:keys.shape[0]]
     start, rkey = _runs(keys)
     assert np.unique(keys).shape[0] < rkey.shape[0]        # some cell is split into several runs
-    cells = np.unique(rkey[rng.random(rkey.shape[0]) < 0.3])
-    index = np.empty(n, np.int32)
-    tri, tcell, pvert, starts, verts, pinv = _group_cells(start, rkey.copy(), rkey.shape[0], cells, faces, n, index)
-    pcell = np.repeat(np.arange(cells.shape[0]), np.diff(starts))
-    inside = np.isin(keys, cells)
+    cells_ = np.unique(rkey[rng.random(rkey.shape[0]) < 0.3])
+    edges = [0] + [min(c, rkey.shape[0]) for c in cut] + [rkey.shape[0]]
+    rspans = list(zip(edges[:-1], edges[1:]))
+    index = np.full(n, -1, np.int32)
+    tri, tcell, pvert, starts, verts, pinv = group(start, rkey.copy(), rspans, cells_, faces, index,
+                                                   spans(n, len(rspans)))
+    pcell = np.repeat(np.arange(cells_.shape[0]), np.diff(starts))
+    inside = np.isin(keys, cells_)
     order = np.argsort(keys[inside], kind="stable")
     want_tri = np.flatnonzero(inside)[order]
     assert np.array_equal(tri, want_tri)
-    assert np.array_equal(tcell, np.searchsorted(cells, keys[want_tri]))
+    assert np.array_equal(tcell, np.searchsorted(cells_, keys[want_tri]))
     pairs = np.unique(np.stack([np.repeat(tcell, 3), faces[tri].reshape(-1)], axis=1), axis=0)
     assert np.array_equal(pcell, pairs[:, 0]) and np.array_equal(pvert, pairs[:, 1])
-    assert np.array_equal(starts, np.searchsorted(pcell, np.arange(cells.shape[0] + 1)))
+    assert np.array_equal(starts, np.searchsorted(pcell, np.arange(cells_.shape[0] + 1)))
     assert np.array_equal(verts, np.unique(pvert)) and np.array_equal(verts[pinv], pvert)
     want_index = np.full(n, -1)
     want_index[verts] = np.arange(verts.shape[0])
     assert np.array_equal(index, want_index)
 
 
-def test_candidate_runs_follow_the_triangles_cells(captured):
-    """Each run holds consecutive triangles of one cell, keyed as the cells' lexicographic order."""
-    pts, faces, origin, h = captured["points"], captured["faces"], captured["origin"], captured["h"]
+def _cells_of(captured, chunks, faces=None):
+    pts, origin, h = captured["points"], captured["origin"], captured["h"]
+    faces = captured["faces"] if faces is None else faces
     n, m = pts.shape[0], faces.shape[0]
-    at = np.zeros(n, np.bool_)
-    vn, start, rkey, marked = np.zeros((n, 3)), np.empty(m + 1, np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
-    n_runs, lo, s = _candidate_cells(pts, faces, origin, h, COS_CANDIDATE, at, vn, start, rkey, marked)
+    at, axis = np.empty(n, np.bool_), np.empty(n, np.int8)
+    border = nodes(pts, faces, origin, h, 0.01, at, axis, chunks=chunks)
+    vn, index = np.full((n, 3), np.nan), np.empty(n, np.int32)
+    work = np.empty(m + 1, np.int64), np.empty(m, np.int64), np.empty(m, np.bool_)
+    out = cells(pts, faces, origin, h, COS_CANDIDATE, at, vn, *work, index, chunks=chunks)
+    return (at, axis, border, vn, index) + out
+
+
+def test_candidate_runs_follow_the_triangles_cells(captured):
+    """The candidate cells are those of the runs of one cell's triangles that hold a triangle departing
+    from a vertex normal (numpy's sums of the triangles' normals, in triangle order), keyed as the
+    cells' lexicographic order."""
+    pts, faces, origin, h = captured["points"], captured["faces"], captured["origin"], captured["h"]
+    n = pts.shape[0]
+    at, _, _, vn, _, cand, lo, s = _cells_of(captured, 1)[:8]
     cell = np.floor(((pts[faces[:, 0]] + pts[faces[:, 1]] + pts[faces[:, 2]]) * (1.0 / 3.0) - origin) / h)
     cell = cell.astype(np.int64) - lo
     keys = (cell[:, 0] * s + cell[:, 1]) * s + cell[:, 2]
-    want_start, want_key = _runs(keys)
-    assert n_runs == want_key.shape[0]
-    assert np.array_equal(start[:n_runs + 1], want_start) and np.array_equal(rkey[:n_runs], want_key)
-    # the box's faces and the drills' rims give candidate runs, far fewer than all
-    assert 0 < marked[:n_runs].sum() < n_runs // 2
-    assert np.allclose(np.linalg.norm(vn, axis=1), 1.0)
+    assert lo.tolist() == (np.floor((pts.min(axis=0) - origin) / h).astype(np.int64) - 1).tolist()
+    a, b, c = (pts[faces[:, j]] for j in range(3))
+    tn = np.cross(b - a, c - a)
+    want = np.zeros((n, 3))
+    for j in range(3):
+        np.add.at(want, faces[:, j], tn)      # (not the same order of sums: equal to rounding)
+    want /= np.linalg.norm(want, axis=1)[:, None]
+    assert np.allclose(vn, want, atol=1e-12)
+    cos = (tn[:, None, :] * vn[faces]).sum(axis=2).min(axis=1) / np.linalg.norm(tn, axis=1)
+    n_at = at[faces].sum(axis=1)
+    marked = (cos < COS_CANDIDATE) | ((n_at > 0) & (n_at < 3))
+    want_cand = np.unique(keys[marked])
+    # (a cosine within rounding of the limit could go either way: none here)
+    assert np.abs(cos - COS_CANDIDATE).min() > 1e-9
+    assert np.array_equal(cand, want_cand)
+    # the box's faces and the drills' rims give candidate cells, far fewer than all
+    assert 0 < cand.shape[0] < np.unique(keys).shape[0] // 2
+
+
+@pytest.mark.parametrize("chunks", [2, 3, 7])
+def test_chunks_give_the_one_chunk_walk(captured, chunks):
+    """Every array of the node and candidate walks is the one-chunk walk's, bit for bit, however many
+    chunks (the vertex normals summed in triangle order across chunk borders)."""
+    one = _cells_of(captured, 1)
+    many = _cells_of(captured, chunks)
+    assert len(one) == len(many)
+    for a, b in zip(one, many):
+        assert np.asarray(a).tobytes() == np.asarray(b).tobytes()
+
+
+def test_chunks_of_tiny_meshes(captured):
+    """More chunks than triangles, one triangle, none: the same as one chunk (no triangle: no cell)."""
+    for m in (0, 1, 2, 5):
+        faces = captured["faces"][:m]
+        one = _cells_of(captured, 1, faces)
+        for chunks in (2, 8):
+            many = _cells_of(captured, chunks, faces)
+            for a, b in zip(one, many):
+                assert np.asarray(a).tobytes() == np.asarray(b).tobytes()
+    assert _cells_of(captured, 3, captured["faces"][:0])[5].shape == (0,)
+
+
+def test_spans_and_threads():
+    assert spans(7, 3) == [(0, 2), (2, 4), (4, 7)]
+    assert spans(1, 2) == [(0, 0), (0, 1)] and spans(0, 2) == [(0, 0), (0, 0)]
+    with pytest.raises(ValueError, match="chunks"):
+        spans(3, 0)
+    assert on_threads([lambda i=i: i * i for i in range(5)]) == [0, 1, 4, 9, 16]
+
+    def boom():
+        raise KeyError("on the second thread")
+
+    with pytest.raises(KeyError, match="second thread"):
+        on_threads([lambda: 1, boom])
 
 
 def test_finish_into_int32_and_in_place_is_the_same(captured):
