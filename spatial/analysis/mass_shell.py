@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mass_core import _EPS, WALL_CELLS, _faces_array
+from .mass_core import _EPS, WALL_CELLS
 from .mass_solid import FEATURE_FLOOR, FEATURE_SAFETY, _kernels, _relative_tolerance
 
 __all__ = ["volume_on_one_level"]
@@ -65,8 +65,7 @@ def volume_on_one_level(solid, mesh, voxel_size, *, tolerance):
     level, shell = kernels
     lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
     c0 = 0.5 * (lo + hi)
-    pts, tri = _faces_array(mesh)
-    pts, tri = np.ascontiguousarray(pts), np.ascontiguousarray(tri)
+    pts, tri = _triangles(mesh)
     # the level as `level_moments` sums it (the same operations: the same bits)
     vec, mids, weights = level(pts, tri, c0)
     t_mid = -np.asarray(solid(mids), dtype=np.float64)
@@ -79,3 +78,12 @@ def volume_on_one_level(solid, mesh, voxel_size, *, tolerance):
     if not volume or not np.isfinite(err) or not err <= tolerance * abs(volume):
         return None
     return volume, float(err / abs(volume))
+
+
+def _triangles(mesh):
+    """Points and triangles of `mesh` as `mass_core._faces_array` gives them (the same arrays), the
+    triangles read from the cells' connectivity rather than the legacy ``faces`` copy VTK builds."""
+    if mesh.n_points == 0 or mesh.n_lines or mesh.n_verts or mesh.n_strips or not mesh.is_all_triangles:
+        raise ValueError("mesh: expected a closed triangle mesh")
+    pts = np.ascontiguousarray(mesh.points, dtype=np.float64)
+    return pts, np.ascontiguousarray(np.asarray(mesh.regular_faces).astype(np.int64))

@@ -473,7 +473,9 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
             surface = None
         if known[0] is None:
             got = None
-            if feature is not None and _is_closed_manifold(mesh_faces(feature)):
+            # (a surface started from the feature mesh found it closed and manifold: `usable_start`)
+            closed = surface is not None and surface_info(surface).get("surface_start") == "features"
+            if feature is not None and (closed or _is_closed_manifold(mesh_faces(feature))):
                 # The feature mesh alone where its shell vouches for it (7 field values a triangle), else
                 # with two coarser levels (meshed after the surface, not on a thread beside it: the two
                 # took turns at the interpreter's lock and both ran slower).
