@@ -68,6 +68,11 @@ def main() -> int:
     from spatial.fea.crossing_kernel import surely_apart
 
     surely_apart(p, np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [0, 2, 3]]))
+    # `tet_mesh`'s volume check on one feature mesh: its triangles' centroids and the shell's error sums
+    from spatial.analysis.mass_kernels import centroids, shell_error
+
+    tri = np.array([[0, 1, 2]])
+    shell_error(p, tri, np.ones(3), np.zeros(3), np.zeros(4), np.zeros(len(centroids(p, tri))))
     print(f"prime_kernels: numba kernels compiled or loaded in {time.perf_counter() - start:.1f} s")
     return 0
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["level", "shell", "BLOCK"]
+__all__ = ["level", "shell", "centroids", "shell_error", "BLOCK"]
 
 # The sums run in blocks of BLOCK terms, each block's sum added to the total with Neumaier's
 # compensation: the rounding no longer grows with the number of triangles (a plain running sum over
@@ -114,3 +114,45 @@ def shell(mids, w, c0):  # pragma: no cover - compiled
             _flush(out, comp, blk)
     _close(out, comp, blk)
     return out
+
+
+@numba.njit(cache=True, fastmath=False)
+def centroids(pts, tri):  # pragma: no cover - compiled
+    """The triangles' centroids, (m, 3)."""
+    m = tri.shape[0]
+    out = np.empty((m, 3))
+    for k in range(m):
+        i, j, l = tri[k, 0], tri[k, 1], tri[k, 2]
+        for q in range(3):
+            out[k, q] = (pts[i, q] + pts[j, q] + pts[l, q]) / 3.0
+    return out
+
+
+@numba.njit(cache=True, fastmath=False)
+def shell_error(pts, tri, w, t_mid, t_vert, t_cen):  # pragma: no cover - compiled
+    """Sums over the triangles of ``|q2 - q3|`` and of the tilt term ``8 |q2| (t_max / e)^2``
+    (`spatial.analysis.mass_shell.volume_on_one_level`): q2 the edge-midpoint rule of the shell's
+    height t, q3 the rule exact for cubics (vertices 1/20, midpoints 2/15, centroid 9/20 of the area),
+    e^2 the mean of the squared edge lengths, t_max the largest |t| at the seven points."""
+    quad = 0.0
+    tilt = 0.0
+    for k in range(tri.shape[0]):
+        i, j, l = tri[k, 0], tri[k, 1], tri[k, 2]
+        area = 3.0 * w[3 * k]
+        ma, mb, mc = t_mid[3 * k], t_mid[3 * k + 1], t_mid[3 * k + 2]
+        va, vb, vc = t_vert[i], t_vert[j], t_vert[l]
+        c = t_cen[k]
+        q2 = w[3 * k] * (ma + mb + mc)
+        q3 = area * ((va + vb + vc) / 20.0 + (ma + mb + mc) * (2.0 / 15.0) + c * (9.0 / 20.0))
+        quad += abs(q2 - q3)
+        tmax = max(abs(ma), abs(mb), abs(mc), abs(va), abs(vb), abs(vc), abs(c))
+        e2 = 0.0
+        for q in range(3):
+            dab = pts[i, q] - pts[j, q]
+            dbc = pts[j, q] - pts[l, q]
+            dca = pts[l, q] - pts[i, q]
+            e2 += dab * dab + dbc * dbc + dca * dca
+        e2 /= 3.0
+        if e2 > 0.0:
+            tilt += 8.0 * abs(q2) * tmax * tmax / e2
+    return quad, tilt

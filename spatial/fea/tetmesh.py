@@ -166,14 +166,15 @@ def tet_mesh(solid, *, size, order=1, min_dihedral=10.0, radius_edge=3.0, max_di
     Notes
     -----
     The volume check compares the mesh volume (curved elements integrated
-    for order 2) with the solid's own volume, measured as
-    `spatial.analysis.mass_properties` measures it for a tolerance (thin-shell
-    corrected feature meshes at three levels, the error from their steps;
-    `spatial.analysis.mass_solid.solid_volume`) to ``ESTIMATE_SHARE *
-    volume_tolerance``: the finest level is the feature mesh the surface is
-    clustered from, the two coarser ones are meshed after the
-    surface (`volume_on_finest`; levels of their own where it cannot serve,
-    the mass properties at 128 cells where even those miss).  Not a figure
+    for order 2) with the solid's own volume to ``ESTIMATE_SHARE *
+    volume_tolerance``: the thin-shell corrected volume of the feature mesh the
+    surface is clustered from, its error read from the shell's two quadratures
+    and its tilt on that mesh (`spatial.analysis.mass_shell.volume_on_one_level`);
+    where that error misses, with two coarser feature meshes as
+    `spatial.analysis.mass_properties` measures for a tolerance
+    (`spatial.analysis.mass_solid.volume_on_finest`, the error from the levels'
+    steps), levels of their own where those cannot serve (`solid_volume`),
+    the mass properties at 128 cells where even those miss.  Not a figure
     derived from the mesh's boundary: a boundary that cuts a corner or misses
     a concave edge shows up.  The tolerance is `volume_tolerance` plus the
     estimate's own error.  When the surface cannot be remeshed free of self-intersections
@@ -443,9 +444,11 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
     is capped at `size` and scaled along.
 
     `known` is ``(volume, relative error)``, the volume None when it is to be measured: then on
-    the first surface's feature mesh (`_solid_volume`).  Returns the surface, its size and
+    the first surface's feature mesh (`volume_on_one_level`, else `volume_on_finest`, else
+    `_solid_volume`).  Returns the surface, its size and
     ``(volume, relative error)``.
     """
+    from ..analysis.mass_shell import volume_on_one_level
     from ..analysis.mass_solid import volume_on_finest
     from ..meshing.boundary import mesh as _mesh_solid
 
@@ -470,10 +473,16 @@ def _surface_for(solid, size, known, tolerance, order, field=None):
             surface = None
         if known[0] is None:
             got = None
-            if feature is not None and _is_closed_manifold(mesh_faces(feature)):
-                # The volume's coarser levels after the surface, not on a thread beside it: the two
-                # took turns at the interpreter's lock and both ran slower (the same figures either way).
-                got = volume_on_finest(solid, feature, size * factor / 4.0, tolerance=ESTIMATE_SHARE * tolerance)
+            # (a surface started from the feature mesh found it closed and manifold: `usable_start`)
+            closed = surface is not None and surface_info(surface).get("surface_start") == "features"
+            if feature is not None and (closed or _is_closed_manifold(mesh_faces(feature))):
+                # The feature mesh alone where its shell vouches for it (7 field values a triangle), else
+                # with two coarser levels (meshed after the surface, not on a thread beside it: the two
+                # took turns at the interpreter's lock and both ran slower).
+                h, share = size * factor / 4.0, ESTIMATE_SHARE * tolerance
+                got = volume_on_one_level(solid, feature, h, tolerance=share)
+                if got is None:
+                    got = volume_on_finest(solid, feature, h, tolerance=share)
             # where the surface's feature mesh cannot give it: levels of their own
             known = got if got is not None else _solid_volume(solid, None, tolerance)
         if surface is None:

@@ -61,8 +61,11 @@ def test_gear_at_size_5_meshes_graded_with_tooth_tips_as_nodes(gear_at_5):
     bnodes = m.points[np.unique(m.boundary)]
     gap = np.linalg.norm(corners[:, None] - bnodes[None], axis=2).min(axis=1)
     # all but a few: a corner whose snap would leave a triangle under 12 degrees is not snapped
-    # (79 of 80 at size 5 from the feature mesh, 74 from the plain start)
-    assert (gap < 1e-6).sum() >= 78
+    # (at size 5 from the feature mesh: 79 of 80 on one machine, 76 on an AMD EPYC with AVX2 and the same
+    # packages, where numpy's SIMD loops and the compiled kernels round their last bits otherwise and the
+    # clusters move; 74 from the plain start), and each one left has a node within 0.15 times the size
+    assert (gap < 1e-6).sum() >= 76
+    assert gap.max() < 0.15 * 5.0
     # the faces split at the tips keep their name
     assert {"extrude_0.side", "cylinder_2.wall", "box_3.+y"} <= set(m.face_sets)
     assert len(FacetField(ns["solid"], split_sides=True).names) > len(FacetField(ns["solid"]).names)

@@ -75,24 +75,47 @@ def test_the_mass_properties_at_128_cells_where_the_tolerance_cannot_be_met(monk
     assert v == pytest.approx(BENCH_VOLUME, rel=1e-4) and 0 < err < 1e-4  # 3.6e-5 at 32, 64, 128 cells
 
 
-def test_tet_mesh_measures_the_volume_on_the_surfaces_feature_mesh(monkeypatch):
-    import spatial.analysis.mass_solid as mass_solid
-
+def _spy(monkeypatch, module, name):
     calls = []
-    real = mass_solid.volume_on_finest
+    real = getattr(module, name)
 
     def spy(solid, finest, voxel_size, **kw):
         got = real(solid, finest, voxel_size, **kw)
         calls.append((finest.n_cells, voxel_size, got is not None))
         return got
 
-    monkeypatch.setattr(mass_solid, "volume_on_finest", spy)
+    monkeypatch.setattr(module, name, spy)
+    return calls
+
+
+def test_tet_mesh_measures_the_volume_on_the_surfaces_feature_mesh_alone(monkeypatch):
+    import spatial.analysis.mass_shell as mass_shell
+    import spatial.analysis.mass_solid as mass_solid
+
+    one = _spy(monkeypatch, mass_shell, "volume_on_one_level")
+    three = _spy(monkeypatch, mass_solid, "volume_on_finest")
     monkeypatch.setattr(tetmesh, "_solid_volume", None)  # no levels of its own
-    m = tet_mesh(BENCH, size=0.1)  # (at 0.15 the coarsest level, 10 cells across, misses by 1 %: levels of its own)
-    assert len(calls) == 1 and calls[0][0] > 10000 and calls[0][1:] == (0.1 / 4, True)
+    for size in (0.1, 0.15):  # (at 0.15 the three levels' coarsest, 10 cells across, missed by 1 %)
+        m = tet_mesh(BENCH, size=size)
+        assert one[-1][0] > 4000 and one[-1][1:] == (size / 4, True)
+        assert m.info["volume_estimate"] == pytest.approx(BENCH_VOLUME, rel=1e-4)
+        assert abs(m.info["volume_estimate"] - BENCH_VOLUME) <= m.info["volume_estimate_error"] * BENCH_VOLUME
+        assert 0 < m.info["volume_estimate_error"] <= ESTIMATE_SHARE * 0.005
+        assert m.info["volume_error"] < 0.005
+    assert len(one) == 2 and three == []  # no coarser level meshed
+
+
+def test_tet_mesh_takes_the_coarser_levels_where_the_feature_mesh_alone_cannot_vouch(monkeypatch):
+    import spatial.analysis.mass_shell as mass_shell
+    import spatial.analysis.mass_solid as mass_solid
+
+    monkeypatch.setattr(mass_shell, "volume_on_one_level", lambda *a, **kw: None)
+    three = _spy(monkeypatch, mass_solid, "volume_on_finest")
+    monkeypatch.setattr(tetmesh, "_solid_volume", None)
+    m = tet_mesh(BENCH, size=0.1)
+    assert len(three) == 1 and three[0][0] > 10000 and three[0][1:] == (0.1 / 4, True)
     assert m.info["volume_estimate"] == pytest.approx(BENCH_VOLUME, rel=1e-4)
     assert 0 < m.info["volume_estimate_error"] <= ESTIMATE_SHARE * 0.005
-    assert m.info["volume_error"] < 0.005
 
 
 def test_tet_mesh_measures_levels_of_its_own_where_the_feature_mesh_cannot_serve():
