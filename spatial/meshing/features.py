@@ -87,9 +87,12 @@ SIGGRAPH 2002, doi:10.1145/566654.566586.
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from .feature_collapse import finish
+from .feature_threads import on_threads, spans
 from .feature_cells import cells as _cells, nodes as _nodes
 from .feature_kernels import _cell_faces, _facing_kernel, _fan_rows, _flip_fans, _newton_step, _solve_cells
 
@@ -244,8 +247,14 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # -- 3. QEF per open cell ----------------------------------------------------------------
     # (the border of each cell's patch, for the cells of rank 2 or more; the faces in each cell, most
     # frequent first, are the labels and the surfaces to solve on)
-    x, rank, b0, b1, bc, disc = _solve_cells(pts, f, tri, tcell, pvert, normal, pinv, starts, open_cells,
-                                             EIGEN_CUTOFF)
+    # (the cells in two chunks on two threads: each cell is solved alone, the border edges put together in
+    # the cells' order)
+    x, rank = np.empty((n_cells, 3)), np.empty(n_cells, np.int64)
+    disc, edge = np.empty(n_cells, np.bool_), np.empty(n_cells, np.bool_)
+    solved = on_threads([partial(_solve_cells, pts, f, tri, tcell, pvert, normal, pinv, starts, open_cells,
+                                 EIGEN_CUTOFF, c0, c1, x, rank, disc, edge) for c0, c1 in spans(n_cells)])
+    b0, b1, bc = (np.concatenate([part[j] for part in solved]) for j in range(3))
+    del solved, edge
     cell_lo = origin + (np.stack([cand // (s * s), (cand // s) % s, cand % s], axis=1) + lo) * h
     # (a cell on one smooth face, not open, holds no edge however much the face turns across it at a coarse
     # voxel, where its QEF would read as two planes: it was given rank 0)
