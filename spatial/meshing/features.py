@@ -134,6 +134,19 @@ def _cross(u, v):
     return out
 
 
+#: Rows from which the facets' numpy walks (`implicit.facets`: row by row) run in two halves on two threads.
+ROWS_ON_THREADS = 8192
+
+
+def _by_rows(walk, n):
+    """``walk(0, n)``, an array computed row by row, made as two halves on two threads (`feature_threads`)
+    when there are rows enough: numpy and the compiled leaves release the interpreter's lock for the most
+    part, and each row's result is the one of the whole walk."""
+    if n < ROWS_ON_THREADS:
+        return walk(0, n)
+    return np.concatenate(on_threads([partial(walk, a, b) for a, b in spans(n)]))
+
+
 def _runs(sorted_keys):
     """Start index of every run of equal values in a sorted array."""
     return np.flatnonzero(np.r_[True, sorted_keys[1:] != sorted_keys[:-1]])
@@ -231,13 +244,14 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # them: a sphere's, a plane's chamfer-free turns); the exact normal of the face deciding the field only
     # at the vertices of the others (closed forms; forward steps of 1e-6 h where none)
     at_verts = pts[verts]
-    decider = np.asarray(ff.decide(at_verts)[1], dtype=np.int64)
+    decider = _by_rows(lambda a, b: np.asarray(ff.decide(at_verts[a:b])[1], dtype=np.int64), verts.shape[0])
     need = np.zeros(verts.shape[0], np.bool_)
     labels, n_faces, open_cells = _cell_faces(pinv, decider, starts, ff.smooth, need)
     rows = np.flatnonzero(need)
     normal = np.zeros((verts.shape[0], 3))
     if rows.shape[0]:
-        g = _unit(ff.gradients_of(at_verts[rows], decider[rows], 1e-6 * h))
+        g = _unit(_by_rows(lambda a, b: ff.gradients_of(at_verts[rows[a:b]], decider[rows[a:b]], 1e-6 * h),
+                           rows.shape[0]))
         g *= np.where(np.einsum("ij,ij->i", g, vn[rows]) < 0, -1.0, 1.0)[:, None]
         normal[rows] = g
         del g
@@ -366,6 +380,16 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     rows = np.flatnonzero(feature & (n_faces == rank) & (rank <= 3))
     if rows.shape[0] == 0:
         return x
+    # (each row alone: in two halves on two threads when there are many)
+    q = _by_rows(lambda a, b: _onto_rows(ff, x, labels, rank, cell_lo, h, rows[a:b]), rows.shape[0])
+    inside = ~np.isnan(q[:, 0])
+    x = x.copy()
+    x[rows[inside]] = q[inside]
+    return x
+
+
+def _onto_rows(ff, x, labels, rank, cell_lo, h, rows):
+    """`_onto_faces` of the cells `rows`: their points, NaN where a point keeps its QEF position."""
     k = 3
     sets = labels[rows]
     used = np.arange(k)[None, :] < rank[rows][:, None]
@@ -400,9 +424,8 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
             q[miss] = _nearest_on_line(q[miss], t[~hit], lo_c[miss], hi_c[miss], h)
     lo = cell_lo[rows] - 0.5 * h
     inside = np.all((q >= lo) & (q <= lo + 2.0 * h), axis=1) & np.all(np.isfinite(q), axis=1)
-    x = x.copy()
-    x[rows[inside]] = q[inside]
-    return x
+    q[~inside] = np.nan
+    return q
 
 
 def _nearest_on_line(q, t, lo, hi, h, steps=40):
