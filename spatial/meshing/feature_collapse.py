@@ -163,9 +163,8 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
                                                    used, bool(renumber))
     del near
     n_out = n_kept + new.shape[0] - n_dropped
-    if overwrite_faces and f is faces and f.dtype == dtype and n_out <= f.shape[0]:
-        out = f
-    else:
+    out = _room(f, n_out) if overwrite_faces and f is faces and f.dtype == dtype else None
+    if out is None:
         out = np.empty((n_out, 3), dtype)
     # the triangles on this thread, the points used on the other (`start` holds each point's new index)
     n_near = source.shape[0]
@@ -174,6 +173,19 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
                          partial(_write, p, f, drop, local, source, n_near, dropped, used, bool(renumber), into,
                                  start, out, pout, False, True)])[1]
     return out[:n_out], used, c, pout[:n_used]
+
+
+def _room(f, rows):
+    """`f` (C-contiguous, its rows in order) or the array it is the first rows of, when that has `rows`
+    rows (the mesher leaves room behind its triangles, `merge_blocks(spare=)`); else None."""
+    if rows <= f.shape[0]:
+        return f
+    base = f.base
+    if (isinstance(base, np.ndarray) and base.dtype == f.dtype and base.ndim == 2 and base.shape[1] == 3
+            and base.flags.c_contiguous and base.shape[0] >= rows
+            and base.__array_interface__["data"][0] == f.__array_interface__["data"][0]):
+        return base
+    return None
 
 
 @numba.njit(cache=True, nogil=True)
