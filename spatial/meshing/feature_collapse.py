@@ -177,12 +177,13 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
 
 def _room(f, rows):
     """`f` (C-contiguous, its rows in order) or the array it is the first rows of, when that has `rows`
-    rows (the mesher leaves room behind its triangles, `merge_blocks(spare=)`); else None."""
+    rows (the mesher leaves room behind its triangles and points: `merge_blocks(spare=)`,
+    `features.point_room`); else None."""
     if rows <= f.shape[0]:
         return f
     base = f.base
-    if (isinstance(base, np.ndarray) and base.dtype == f.dtype and base.ndim == 2 and base.shape[1] == 3
-            and base.flags.c_contiguous and base.shape[0] >= rows
+    if (isinstance(base, np.ndarray) and base.dtype == f.dtype and base.ndim == 2 and base.shape[1] == f.shape[1]
+            and f.flags.c_contiguous and base.flags.c_contiguous and base.shape[0] >= rows
             and base.__array_interface__["data"][0] == f.__array_interface__["data"][0]):
         return base
     return None

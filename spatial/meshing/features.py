@@ -91,7 +91,7 @@ from functools import partial
 
 import numpy as np
 
-from .feature_collapse import finish
+from .feature_collapse import _room, finish
 from .feature_threads import on_threads, spans
 from .feature_cells import cells as _cells, nodes as _nodes
 from .feature_kernels import _cell_faces, _facing_kernel, _fan_rows, _flip_fans, _newton_step, _solve_cells
@@ -140,6 +140,11 @@ def _cross(u, v):
 
 #: Rows from which the facets' numpy walks (`implicit.facets`: row by row) run in two halves on two threads.
 ROWS_ON_THREADS = 8192
+
+
+def point_room(n):
+    """Rows the pass wants behind `n` points for the fans' vertices (at most one per `ROOM` points)."""
+    return n // ROOM + 256
 
 
 def _by_rows(walk, n):
@@ -230,8 +235,18 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # (the vertex normals' rows, once read, take the points of the fans: `room` has rows for the fans'
     # vertices beyond them, which are never touched unless used)
     # (`index` and the runs' starts, once read, are the collapses' work arrays: pages already touched)
-    room, spare = np.empty((n + n // ROOM + 256, 3)), np.empty(n + n // ROOM + 256, np.int32)
-    vn, index = room[:n], spare[:n]
+    # (lent points with room behind them, `point_room`, are the fans' points already: no copy)
+    # (then the vertex normals have an array of their own; else they take the rows of `room` until the points
+    # are copied there)
+    room = _room(pts, n + point_room(n)) if overwrite else None
+    in_room = room is not None
+    if in_room:
+        vn = np.empty((n, 3))
+    else:
+        room = np.empty((n + point_room(n), 3))
+        vn = room[:n]
+    spare = np.empty(n + point_room(n), np.int32)
+    index = spare[:n]
     ix = np.int32 if m < 2 ** 31 else np.int64
     work = np.empty(m + 1, ix), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
@@ -285,7 +300,8 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     feature &= disc           # cells whose patch is not one disc are left alone
     # (the rounds only take cells away: the first round's fans are the most there are)
     if feature.any() and room.shape[0] >= n + int(feature.sum()):
-        room[:n] = pts
+        if not in_room:
+            room[:n] = pts
     else:
         room = None
     for _ in range(ROUNDS):
