@@ -55,13 +55,16 @@ def _border_nodes(faces, t0, t1, at_node, axis, out):
 
 
 @numba.njit(cache=True, nogil=True)
-def _node_step(step, pts, faces, a, b, origin, h, node_tol, at, axis, out):
-    """`_at_node` of vertices `a:b` (step 0) or `_border_nodes` of triangles `a:b` (step 1): one compiled
-    function, one cache load in a fresh process."""
+def _node_step(step, pts, faces, a, b, origin, h, node_tol, at, axis, out, vn, box):
+    """`_at_node` of vertices `a:b` (step 0), `_border_nodes` of triangles `a:b` (step 1) or `_bounds` of
+    vertices `a:b` (step 2; the other steps' arrays unread): one compiled function, one cache load in a
+    fresh process."""
     if step == 0:
         _at_node(pts, a, b, origin, h, node_tol, at, axis)
-    else:
+    elif step == 1:
         _border_nodes(faces, a, b, at, axis, out)
+    else:
+        _bounds(pts, a, b, vn, box)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -416,14 +419,18 @@ def _mark_vertices(pvert, index):
 
 # -- the pass's walks over every vertex and triangle, chunk by chunk on two threads --------------
 
+# (the arrays a step of `_node_step` does not read)
+_NO_VN, _NO_BOX, _NO_AXIS = np.empty((0, 3)), np.empty((2, 3)), np.empty(0, np.int8)
+
+
 def nodes(pts, faces, origin, h, node_tol, at, axis, chunks=CHUNKS):
     """The vertices at lattice nodes (`_at_node`, into `at` and `axis`) and, returned (n,) bool, those of
     them in a triangle that also has an ordinary vertex (`_border_nodes`)."""
     n, m = pts.shape[0], faces.shape[0]
     found = [np.zeros(n, np.bool_) for _ in range(chunks)]
-    on_threads([partial(_node_step, 0, pts, faces, a, b, origin, h, node_tol, at, axis, found[0])
+    on_threads([partial(_node_step, 0, pts, faces, a, b, origin, h, node_tol, at, axis, found[0], _NO_VN, _NO_BOX)
                 for a, b in spans(n, chunks)])
-    on_threads([partial(_node_step, 1, pts, faces, a, b, origin, h, node_tol, at, axis, found[i])
+    on_threads([partial(_node_step, 1, pts, faces, a, b, origin, h, node_tol, at, axis, found[i], _NO_VN, _NO_BOX)
                 for i, (a, b) in enumerate(spans(m, chunks))])
     for more in found[1:]:
         np.logical_or(found[0], more, out=found[0])
@@ -459,7 +466,8 @@ def cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run
     n, m = pts.shape[0], faces.shape[0]
     vspans, tspans = spans(n, chunks), spans(m, chunks)
     boxes = np.empty((len(vspans), 2, 3))
-    on_threads([partial(_bounds, pts, a, b, vn, boxes[i]) for i, (a, b) in enumerate(vspans)])
+    on_threads([partial(_node_step, 2, pts, faces, a, b, origin, float(h), 0.0, at_node, _NO_AXIS, at_node, vn,
+                        boxes[i]) for i, (a, b) in enumerate(vspans)])
     skips = np.zeros((len(tspans), n), np.bool_)
     walked = on_threads([partial(_walk, pts, faces, a, b, origin, h, boxes, vn, skips[i], run_start, run_key,
                                  run_marked) for i, (a, b) in enumerate(tspans)])

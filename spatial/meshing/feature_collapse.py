@@ -156,12 +156,15 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
     near[new.reshape(-1)] = True
     used = np.ones(n_p, np.bool_)
     tspans = spans(f.shape[0])
-    scans = on_threads([partial(_scan, f, a, b, drop, near, used) for a, b in tspans])
+    # (the walks and the writes below are steps of one compiled function: one cache load in a fresh process)
+    none = np.empty(0, np.int64)
+    scans = on_threads([partial(_write, p, f, drop, none.reshape(0, 3), none, 0, none.astype(np.bool_), used,
+                                bool(renumber), into, start, np.empty((0, 3), dtype), pout, 0, a, b, near)
+                        for a, b in tspans])
     source = np.concatenate([sc[0] for sc in scans]) if len(scans) > 1 else scans[0][0]
     n_kept = sum(sc[1] for sc in scans)
     local, dropped, c, n_dropped = _collapse_local(p, f, source, new, np.int64(n), near, float(cos_move), into, start,
                                                    used, bool(renumber))
-    del near
     n_out = n_kept + new.shape[0] - n_dropped
     out = _room(f, n_out) if overwrite_faces and f is faces and f.dtype == dtype else None
     if out is None:
@@ -169,9 +172,7 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
     # the triangles on this thread, the points used on the other (`start` holds each point's new index)
     n_near = source.shape[0]
     n_used = on_threads([partial(_write, p, f, drop, local, source, n_near, dropped, used, bool(renumber), into,
-                                 start, out, pout, True, False),
-                         partial(_write, p, f, drop, local, source, n_near, dropped, used, bool(renumber), into,
-                                 start, out, pout, False, True)])[1]
+                                 start, out, pout, step, 0, 0, near) for step in (1, 2)])[1][1]
     return out[:n_out], used, c, pout[:n_used]
 
 
@@ -260,14 +261,17 @@ def _collapse_local(p, f, source, new, n, near, cos_move, into, start, used, ren
 
 
 @numba.njit(cache=True, nogil=True)
-def _write(p, f, drop, faces, source, n_near, dropped, used, renumber, into, index, out, pout, tris, points):
-    """The triangles of `finish` into `out` (with `tris`; `out` may be `f` itself: row ``r`` is written
-    once rows ``<= r`` of `f` are read) and the points used into `pout` (with `points`; `index`: each
-    point's new index); returns the count of points used (0 without `points`)."""
+def _write(p, f, drop, faces, source, n_near, dropped, used, renumber, into, index, out, pout, step, t0, t1, near):
+    """A walk of `finish`: `_scan` of triangles `t0:t1` (step 0: returns its triangles and count), the
+    triangles into `out` (step 1; `out` may be `f` itself: row ``r`` is written once rows ``<= r`` of `f`
+    are read) or the points used into `pout` (step 2; `index`: each point's new index; returns their
+    count with an empty array)."""
+    if step == 0:
+        return _scan(f, t0, t1, drop, near, used)
     m = f.shape[0]
     n_p = p.shape[0]
     k = faces.shape[0]
-    if tris:
+    if step == 1:
         r = 0
         s = 0     # next local triangle that came from `f`
         for t in range(m):
@@ -292,12 +296,12 @@ def _write(p, f, drop, faces, source, n_near, dropped, used, renumber, into, ind
                 r += 1
     # the points used, in order (all of them when not renumbering)
     q = 0
-    if points:
+    if step == 2:
         for v in range(n_p):
             if used[v] or not renumber:
                 pout[q, 0] = p[v, 0]; pout[q, 1] = p[v, 1]; pout[q, 2] = p[v, 2]
                 q += 1
-    return q
+    return source[:0].copy(), q
 
 
 @numba.njit(cache=True, nogil=True)
