@@ -119,7 +119,7 @@ def _unique_ids(ids):
     return np.unique(ids, return_inverse=True)
 
 
-def merge_blocks(parts, threads=1):
+def merge_blocks(parts, threads=1, spare=0.0):
     """Merge per-block results into one indexed mesh keyed by global edge id.
 
     Only vertices on an edge lying in a block-grid plane can belong to two
@@ -139,6 +139,11 @@ def merge_blocks(parts, threads=1):
         Parts written into the merged arrays on this many threads (compiled,
         GIL-free copies; every part has its own rows, so the result is the
         same).
+    spare : float
+        The triangles are the first rows of an array with this fraction more
+        (and 256) rows behind them, never touched here (so they cost no
+        memory until written): room for a pass that adds a few triangles in
+        place (`features`).
 
     Returns
     -------
@@ -165,7 +170,8 @@ def merge_blocks(parts, threads=1):
     del uniq
     itype = np.int32 if n_total < 2 ** 31 else np.int64
     data = [np.empty((n_total,) + arr.shape[1:], dtype=arr.dtype) for arr in parts[0][2]]
-    faces = np.empty((int(starts[0][-1]), 3), dtype=itype)
+    n_f = int(starts[0][-1])
+    faces = np.empty((n_f + (int(n_f * spare) + 256 if spare else 0), 3), dtype=itype)[:n_f]
 
     def work(a, b):
         for i in range(a, b):

@@ -12,7 +12,7 @@ from ..files.surface import triangle_surface
 from .arrays import (DEFAULT_BLOCK, EVAL_CHUNK, REFINE_ACCEPT, REFINE_TOL, ZERO_NUDGE, ZERO_TIE, _chunks_on_threads,
                      _release_free_memory, _settle_ties, _stable_order, empty_mesh, refine_scale)
 from .blocks import INTERIOR, check_block as _check_block, merge_blocks
-from .features import sharp_polydata_lent
+from .features import FACE_ROOM, point_room, sharp_polydata_lent
 from .refine import _refine_on_edges
 from .cells_kernels import (min_max, min_max_rows, order_by_key, stage_counts, stage_fill, take_entries, take_nudged,
                             take_rows, ties)
@@ -229,7 +229,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     finally:
         bar.close()
     del pieces
-    data, faces = merge_blocks(parts, threads=slab_threads)
+    # (with room behind the triangles for the few the feature pass adds: written in place, no second array)
+    data, faces = merge_blocks(parts, threads=slab_threads, spare=FACE_ROOM if features else 0.0)
     del parts
     _release_free_memory()
     if faces.shape[0] == 0:
@@ -268,7 +269,9 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     _release_free_memory()
     if edge_ids:
         ids = ((nodes[:, 0].astype(np.int64) * stride + nodes[:, 1]) * stride + nodes[:, 2]) * 3 + axis
-    p0 = np.empty((nodes.shape[0], 3))
+    # (with features, room behind the points for the pass's feature vertices: untouched rows cost no memory)
+    p0 = np.empty((nodes.shape[0] + point_room(nodes.shape[0]), 3))[:nodes.shape[0]] if features else \
+        np.empty((nodes.shape[0], 3))
     _chunks_on_threads(lambda a, b: place_rows(nodes, axis, t, h, origin, p0, a, b), nodes.shape[0], EVAL_CHUNK,
                        threads=slab_threads)
     del nodes, t, axis

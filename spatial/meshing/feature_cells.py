@@ -2,7 +2,10 @@
 the vertices at lattice nodes, and the candidate cells found by runs of one cell's triangles and
 grouped by one hash probe per run and a counting sort (the walks over the candidate cells alone are
 in `feature_kernels`).  Each walk takes a chunk of the vertices, triangles or runs, and `nodes` and
-`cells` run the chunks on two threads (`feature_threads`), with the serial walk's result bit for bit."""
+`cells` run the chunks on two threads (`feature_threads`), with the serial walk's result bit for bit.
+Small serial steps are folded into the walks beside them (the key frame, the later chunks' normal sums,
+the merge of the last two chunks' keys, the offsets of the counting sort): each compiled function called
+from Python is one cache load in a fresh process (some 2 ms each)."""
 
 from __future__ import annotations
 
@@ -49,6 +52,19 @@ def _border_nodes(faces, t0, t1, at_node, axis, out):
                 v = faces[t, j]
                 if at_node[v] and axis[v] >= 0:
                     out[v] = True
+
+
+@numba.njit(cache=True, nogil=True)
+def _node_step(step, pts, faces, a, b, origin, h, node_tol, at, axis, out, vn, box):
+    """`_at_node` of vertices `a:b` (step 0), `_border_nodes` of triangles `a:b` (step 1) or `_bounds` of
+    vertices `a:b` (step 2; the other steps' arrays unread): one compiled function, one cache load in a
+    fresh process."""
+    if step == 0:
+        _at_node(pts, a, b, origin, h, node_tol, at, axis)
+    elif step == 1:
+        _border_nodes(faces, a, b, at, axis, out)
+    else:
+        _bounds(pts, a, b, vn, box)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -141,16 +157,18 @@ def _key_frame(boxes, origin, h):
 
 
 @numba.njit(cache=True, nogil=True)
-def _walk(pts, faces, t0, t1, origin, h, lo, s, vn, skip, run_start, run_key, run_marked):
+def _walk(pts, faces, t0, t1, origin, h, boxes, vn, skip, run_start, run_key, run_marked):
     """Triangles `t0:t1`: their normals added to `vn` at the vertices no earlier triangle holds, and
-    their runs (from row `t0`).
+    their runs (from row `t0`), keyed in the frame `_key_frame` makes of the chunks' `boxes` (every
+    chunk makes the same).
 
     `skip` (n,) bool, all False, is set here for the vertices of the triangles before `t0`: those
     vertices' sums belong to an earlier chunk, which must add its triangles first, so the triangles
-    of this chunk are added to them afterwards (`_add_skipped`) and each sum is made in triangle
-    order, as one walk makes it.  Returns the number of runs and the first and last triangle holding
-    a skipped vertex (``t1, t0 - 1`` for none).
+    of this chunk are added to them afterwards (`_normalize`) and each sum is made in triangle
+    order, as one walk makes it.  Returns the number of runs, the first and last triangle holding
+    a skipped vertex (``t1, t0 - 1`` for none) and the key frame ``lo, s``.
     """
+    lo, s = _key_frame(boxes, origin, h)
     for t in range(t0):
         skip[faces[t, 0]] = True
         skip[faces[t, 1]] = True
@@ -184,26 +202,23 @@ def _walk(pts, faces, t0, t1, origin, h, lo, s, vn, skip, run_start, run_key, ru
     # (a full chunk's end is the next chunk's first start, written there)
     if t0 + n_runs < t1:
         run_start[t0 + n_runs] = t1
-    return n_runs, first, last
+    return n_runs, first, last, lo, s
 
 
 @numba.njit(cache=True, nogil=True)
-def _add_skipped(pts, faces, first, last, vn, skip):
-    """The normals of triangles `first:last + 1` added to the vertices `skip` marks, in order."""
-    for t in range(first, last + 1):
-        a, b, c = np.uint64(faces[t, 0]), np.uint64(faces[t, 1]), np.uint64(faces[t, 2])
-        cx, cy, cz = _tri_normal(pts, a, b, c)
-        if skip[a]:
-            vn[a, 0] += cx; vn[a, 1] += cy; vn[a, 2] += cz
-        if skip[b]:
-            vn[b, 0] += cx; vn[b, 1] += cy; vn[b, 2] += cz
-        if skip[c]:
-            vn[c, 0] += cx; vn[c, 1] += cy; vn[c, 2] += cz
-
-
-@numba.njit(cache=True, nogil=True)
-def _normalize(vn, v0, v1, index):
-    """Rows `v0:v1` of the vertex normals made unit (zero ones left), and of `index` set to -1."""
+def _normalize(pts, faces, vn, v0, v1, index, first, last, skips):
+    """Rows `v0:v1` of the vertex normals made unit (zero ones left), and of `index` set to -1; first, the
+    rows' sums completed by the triangles of the later chunks (per chunk of triangles ``i`` from the
+    second on: ``first[i]:last[i] + 1``, those holding a vertex it skipped, as `_walk` returns them, and
+    its marks ``skips[i]``), chunk after chunk: each sum in triangle order, as one walk makes it."""
+    for i in range(1, first.shape[0]):
+        for t in range(first[i], last[i] + 1):
+            a, b, c = np.uint64(faces[t, 0]), np.uint64(faces[t, 1]), np.uint64(faces[t, 2])
+            for j in range(3):
+                v = np.int64(faces[t, j])
+                if v0 <= v < v1 and skips[i, v]:
+                    cx, cy, cz = _tri_normal(pts, a, b, c)
+                    vn[v, 0] += cx; vn[v, 1] += cy; vn[v, 2] += cz
     for v in range(v0, v1):
         index[v] = -1
         r = np.sqrt(vn[v, 0] ** 2 + vn[v, 1] ** 2 + vn[v, 2] ** 2)
@@ -252,10 +267,12 @@ def _mark(pts, faces, cos_limit, at_node, vn, run_start, run_key, run_marked, q0
 # -- the candidate cells' triangles and vertices, grouped by cell without a global sort ----------
 
 @numba.njit(cache=True, nogil=True)
-def _cell_table(cells):
-    """An open-addressing table of the sorted candidate keys `cells` (each slot a position in `cells`,
-    -1 free) and a bit per slot of a table 8 to 16 times as large, set for the candidates' keys: most
-    runs are of no candidate and are told so by this small array (it stays in cache) without probing."""
+def _cell_table(a, b):
+    """The candidate keys: the distinct values of the ascending `a` and `b` (`_merge_unique`), an
+    open-addressing table of them (each slot a position in the keys, -1 free) and a bit per slot of a
+    table 8 to 16 times as large, set for the candidates' keys: most runs are of no candidate and are
+    told so by this small array (it stays in cache) without probing."""
+    cells = _merge_unique(a, b)
     n_cells = cells.shape[0]
     size = 1
     while size < 2 * n_cells + 2:
@@ -270,9 +287,9 @@ def _cell_table(cells):
         while table[slot] >= 0:
             slot = (slot + 1) & (size - 1)
         table[slot] = c
-        b = _slot(cells[c], bits - 1)
-        seen[b >> 3] |= np.uint8(1 << (b & 7))
-    return table, seen
+        q = _slot(cells[c], bits - 1)
+        seen[q >> 3] |= np.uint8(1 << (q & 7))
+    return cells, table, seen
 
 
 @numba.njit(cache=True, nogil=True)
@@ -321,8 +338,10 @@ def _offsets(counts):
 
 
 @numba.njit(cache=True, nogil=True)
-def _fill(run_start, run_key, q0, q1, fill, tri, tcell):
-    """The triangles of runs `q0:q1` of a candidate cell into their rows of `tri` and `tcell`."""
+def _fill(run_start, run_key, q0, q1, counts, chunk, tri, tcell):
+    """The triangles of runs `q0:q1` (chunk `chunk` of those counted in `counts`) of a candidate cell into
+    their rows of `tri` and `tcell` (the chunk's first row in each cell from `_offsets`)."""
+    fill = _offsets(counts)[1][chunk]
     for q in range(q0, q1):
         c = run_key[q]
         if c >= 0:
@@ -335,9 +354,11 @@ def _fill(run_start, run_key, q0, q1, fill, tri, tcell):
 
 
 @numba.njit(cache=True, nogil=True)
-def _cell_vertices(tri, faces, count, n_cells):
+def _cell_vertices(tri, faces, counts, n_cells, index):
     """Each cell's distinct vertices, sorted (a cell holds a dozen at most: insertion sort), and the
-    first of each cell (cells + 1,)."""
+    first of each cell (cells + 1,); ``index[v] = 0`` for those vertices (`_mark_vertices`).  `counts`:
+    the chunks' triangle counts per cell (`_probe`)."""
+    count = _offsets(counts)[0]
     buf = np.empty(3 * tri.shape[0], np.int64)
     starts = np.empty(n_cells + 1, np.int64)
     r = 0
@@ -362,6 +383,7 @@ def _cell_vertices(tri, faces, count, n_cells):
                 r += 1
     starts[n_cells] = r
     pvert = buf[:r]
+    _mark_vertices(pvert, index)
     return pvert, starts
 
 
@@ -375,14 +397,17 @@ def _count_marked(index, v0, v1):
 
 
 @numba.njit(cache=True, nogil=True)
-def _number(index, v0, v1, k, verts):
+def _number(index, v0, v1, k, verts, count):
     """The marked vertices of `v0:v1` numbered from `k` in their order (into `index` and `verts`), the
-    others' -1 left."""
+    others' -1 left; with `count`, only how many they are (`_count_marked`)."""
+    if count:
+        return _count_marked(index, v0, v1)
     for v in range(v0, v1):
         if index[v] == 0:
             index[v] = k
             verts[k] = v
             k += 1
+    return k
 
 
 @numba.njit(cache=True, nogil=True)
@@ -392,24 +417,21 @@ def _mark_vertices(pvert, index):
         index[pvert[i]] = 0
 
 
-@numba.njit(cache=True, nogil=True)
-def _pair_index(pvert, index):
-    """Each pair's vertex's position among the distinct vertices."""
-    pinv = np.empty(pvert.shape[0], np.int64)
-    for i in range(pvert.shape[0]):
-        pinv[i] = index[pvert[i]]
-    return pinv
-
-
 # -- the pass's walks over every vertex and triangle, chunk by chunk on two threads --------------
+
+# (the arrays a step of `_node_step` does not read)
+_NO_VN, _NO_BOX, _NO_AXIS = np.empty((0, 3)), np.empty((2, 3)), np.empty(0, np.int8)
+
 
 def nodes(pts, faces, origin, h, node_tol, at, axis, chunks=CHUNKS):
     """The vertices at lattice nodes (`_at_node`, into `at` and `axis`) and, returned (n,) bool, those of
     them in a triangle that also has an ordinary vertex (`_border_nodes`)."""
     n, m = pts.shape[0], faces.shape[0]
-    on_threads([partial(_at_node, pts, a, b, origin, h, node_tol, at, axis) for a, b in spans(n, chunks)])
     found = [np.zeros(n, np.bool_) for _ in range(chunks)]
-    on_threads([partial(_border_nodes, faces, a, b, at, axis, found[i]) for i, (a, b) in enumerate(spans(m, chunks))])
+    on_threads([partial(_node_step, 0, pts, faces, a, b, origin, h, node_tol, at, axis, found[0], _NO_VN, _NO_BOX)
+                for a, b in spans(n, chunks)])
+    on_threads([partial(_node_step, 1, pts, faces, a, b, origin, h, node_tol, at, axis, found[i], _NO_VN, _NO_BOX)
+                for i, (a, b) in enumerate(spans(m, chunks))])
     for more in found[1:]:
         np.logical_or(found[0], more, out=found[0])
     return found[0]
@@ -444,33 +466,34 @@ def cells(pts, faces, origin, h, cos_limit, at_node, vn, run_start, run_key, run
     n, m = pts.shape[0], faces.shape[0]
     vspans, tspans = spans(n, chunks), spans(m, chunks)
     boxes = np.empty((len(vspans), 2, 3))
-    on_threads([partial(_bounds, pts, a, b, vn, boxes[i]) for i, (a, b) in enumerate(vspans)])
-    lo, s = _key_frame(boxes, origin, h)
-    skips = [np.zeros(n, np.bool_) for _ in tspans]
-    walked = on_threads([partial(_walk, pts, faces, a, b, origin, h, lo, s, vn, skips[i], run_start, run_key,
+    on_threads([partial(_node_step, 2, pts, faces, a, b, origin, float(h), 0.0, at_node, _NO_AXIS, at_node, vn,
+                        boxes[i]) for i, (a, b) in enumerate(vspans)])
+    skips = np.zeros((len(tspans), n), np.bool_)
+    walked = on_threads([partial(_walk, pts, faces, a, b, origin, h, boxes, vn, skips[i], run_start, run_key,
                                  run_marked) for i, (a, b) in enumerate(tspans)])
-    for i in range(1, len(tspans)):
-        _, first, last = walked[i]
-        if last >= first:
-            _add_skipped(pts, faces, first, last, vn, skips[i])
-    del skips
+    lo, s = walked[0][3], int(walked[0][4])
+    first = np.array([w[1] for w in walked], np.int64)
+    last = np.array([w[2] for w in walked], np.int64)
     run_start[m] = m
     rspans = [(a, a + w[0]) for (a, _), w in zip(tspans, walked)]
-    on_threads([partial(_normalize, vn, a, b, index) for a, b in vspans])
+    on_threads([partial(_normalize, pts, faces, vn, a, b, index, first, last, skips) for a, b in vspans])
+    del skips
     keys = on_threads([partial(_mark, pts, faces, cos_limit, at_node, vn, run_start, run_key, run_marked, q0, q1)
                        for q0, q1 in rspans])
     cand = keys[0]
-    for k in keys[1:]:
+    for k in keys[1:-1]:
         cand = _merge_unique(cand, k)
-    n_cells = cand.shape[0]
     empty = np.empty(0, np.int64)
-    if n_cells == 0:
+    # (the last two merged with the table made of them: one compiled call)
+    cand, table, seen = _cell_table(cand, keys[-1] if len(keys) > 1 else empty)
+    if cand.shape[0] == 0:
         return cand, lo, s, empty, empty, empty, np.zeros(1, np.int64), empty, empty
-    tri, tcell, pvert, starts, verts, pinv = group(run_start, run_key, rspans, cand, faces, index, vspans)
+    tri, tcell, pvert, starts, verts, pinv = group(run_start, run_key, rspans, cand, faces, index, vspans,
+                                                   (table, seen))
     return cand, lo, s, tri, tcell, pvert, starts, verts, pinv
 
 
-def group(run_start, run_key, rspans, cells, faces, index, vspans):
+def group(run_start, run_key, rspans, cells, faces, index, vspans, table=None):
     """The candidate cells' triangles and (cell, vertex) pairs, grouped by cell without a global sort.
 
     `cells` is the sorted array of candidate cell keys; the runs are the
@@ -486,19 +509,23 @@ def group(run_start, run_key, rspans, cells, faces, index, vspans):
     Returns ``tri, tcell, pvert, starts, verts, pinv`` as `cells` does;
     `run_key` is overwritten (with each run's cell, -1 for none) and `index`
     (n,) int32, all -1, is left holding each vertex's position in `verts`.
+    `table`: ``(table, seen)`` of `_cell_table` for `cells`, when made already.
     """
     n_cells = cells.shape[0]
-    table, seen = _cell_table(cells)
+    if table is None:
+        _, *table = _cell_table(cells, cells[:0])
+    table, seen = table
     counts = np.zeros((len(rspans), n_cells + 1), np.int64)
     on_threads([partial(_probe, run_start, run_key, q0, q1, cells, table, seen, counts[i])
                 for i, (q0, q1) in enumerate(rspans)])
-    start, fill = _offsets(counts)
-    tri, tcell = np.empty(start[n_cells], np.int64), np.empty(start[n_cells], np.int64)
-    on_threads([partial(_fill, run_start, run_key, q0, q1, fill[i], tri, tcell) for i, (q0, q1) in enumerate(rspans)])
-    pvert, starts = _cell_vertices(tri, faces, start, n_cells)
-    _mark_vertices(pvert, index)
-    counted = on_threads([partial(_count_marked, index, a, b) for a, b in vspans])
+    total = int(counts.sum())
+    tri, tcell = np.empty(total, np.int64), np.empty(total, np.int64)
+    on_threads([partial(_fill, run_start, run_key, q0, q1, counts, i, tri, tcell) for i, (q0, q1) in enumerate(rspans)])
+    pvert, starts = _cell_vertices(tri, faces, counts, n_cells, index)
+    none = np.empty(0, np.int64)
+    counted = on_threads([partial(_number, index, a, b, 0, none, True) for a, b in vspans])
     verts = np.empty(sum(counted), np.int64)
     first = np.cumsum([0] + counted[:-1])
-    on_threads([partial(_number, index, a, b, int(first[i]), verts) for i, (a, b) in enumerate(vspans)])
-    return tri, tcell, pvert, starts, verts, _pair_index(pvert, index)
+    on_threads([partial(_number, index, a, b, int(first[i]), verts, False) for i, (a, b) in enumerate(vspans)])
+    # (each pair's row among the vertices: numpy's gather, the same values as a compiled one, one cache load less)
+    return tri, tcell, pvert, starts, verts, index[pvert].astype(np.int64)

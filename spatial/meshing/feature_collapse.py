@@ -31,8 +31,12 @@ feature vertex first: the result is deterministic.
 
 from __future__ import annotations
 
+from functools import partial
+
 import numba
 import numpy as np
+
+from .feature_threads import on_threads, spans
 
 __all__ = ["collapse_fans", "finish"]
 
@@ -145,14 +149,45 @@ def finish(points, faces, drop, new_faces, n, cos_move=COS_MOVE, renumber=True, 
         into, start = work
     else:
         into, start = np.empty(n_p, ix), np.empty(n_p + 1, ix)
-    local, source, n_near, dropped, used, c, n_out = _collapse_near(p, f, drop, new, np.int64(n), float(cos_move),
-                                                                    into, start)
-    if overwrite_faces and f is faces and f.dtype == dtype and n_out <= f.shape[0]:
-        out = f
-    else:
+    # the vertices near the fans (those of the new triangles), then one walk of the triangles in two chunks
+    # on two threads (`feature_threads`): the triangles kept beside the fans, and the vertices of replaced
+    # triangles on no new one marked unused
+    near = np.zeros(n_p, np.bool_)
+    near[new.reshape(-1)] = True
+    used = np.ones(n_p, np.bool_)
+    tspans = spans(f.shape[0])
+    # (the walks and the writes below are steps of one compiled function: one cache load in a fresh process)
+    none = np.empty(0, np.int64)
+    scans = on_threads([partial(_write, p, f, drop, none.reshape(0, 3), none, 0, none.astype(np.bool_), used,
+                                bool(renumber), into, start, np.empty((0, 3), dtype), pout, 0, a, b, near)
+                        for a, b in tspans])
+    source = np.concatenate([sc[0] for sc in scans]) if len(scans) > 1 else scans[0][0]
+    n_kept = sum(sc[1] for sc in scans)
+    local, dropped, c, n_dropped = _collapse_local(p, f, source, new, np.int64(n), near, float(cos_move), into, start,
+                                                   used, bool(renumber))
+    n_out = n_kept + new.shape[0] - n_dropped
+    out = _room(f, n_out) if overwrite_faces and f is faces and f.dtype == dtype else None
+    if out is None:
         out = np.empty((n_out, 3), dtype)
-    n_used = _write(p, f, drop, local, source, n_near, dropped, used, bool(renumber), into, start, out, pout)
+    # the triangles on this thread, the points used on the other (`start` holds each point's new index)
+    n_near = source.shape[0]
+    n_used = on_threads([partial(_write, p, f, drop, local, source, n_near, dropped, used, bool(renumber), into,
+                                 start, out, pout, step, 0, 0, near) for step in (1, 2)])[1][1]
     return out[:n_out], used, c, pout[:n_used]
+
+
+def _room(f, rows):
+    """`f` (C-contiguous, its rows in order) or the array it is the first rows of, when that has `rows`
+    rows (the mesher leaves room behind its triangles and points: `merge_blocks(spare=)`,
+    `features.point_room`); else None."""
+    if rows <= f.shape[0]:
+        return f
+    base = f.base
+    if (isinstance(base, np.ndarray) and base.dtype == f.dtype and base.ndim == 2 and base.shape[1] == f.shape[1]
+            and f.flags.c_contiguous and base.flags.c_contiguous and base.shape[0] >= rows
+            and base.__array_interface__["data"][0] == f.__array_interface__["data"][0]):
+        return base
+    return None
 
 
 @numba.njit(cache=True, nogil=True)
@@ -164,25 +199,19 @@ def _normal(p, a, b, c, ax, ay, az):
 
 
 @numba.njit(cache=True, nogil=True)
-def _collapse_near(p, f, drop, new, n, cos_move, into, start):
-    """The collapses of `finish` on the triangles near the fans (gathered: `local`, of which the first
-    `n_near` are the rows `source` of `f`), into `into` (p,) and with `start` (p + 1,) as work; returns
-    them, the local triangles dropped, `used`, the count of collapses and of the triangles out."""
-    m = f.shape[0]
-    n_p = p.shape[0]
-    # the vertices near the fans (those of the new triangles) and every triangle around them, local
-    near = np.zeros(n_p, np.bool_)
-    for t in range(new.shape[0]):
-        for j in range(3):
-            near[new[t, j]] = True
-    # one pass: the triangles kept beside the fans (gathered), and the vertices of the replaced triangles
-    # on no new one (inner vertices of a cell's patch, whose whole star was replaced) marked unused
-    used = np.ones(n_p, np.bool_)
-    source = np.empty(max(16, new.shape[0]), np.int64)
+def _scan(f, t0, t1, drop, near, used):
+    """Triangles `t0:t1` of `finish`: those kept beside the fans (`near`: the new triangles' vertices),
+    returned with the count of triangles kept; the vertices of the replaced triangles on no new one
+    (inner vertices of a cell's patch, whose whole star was replaced) marked in `used` (False only is
+    written: chunks may share vertices)."""
+    # (room for every triangle, of which only the pages written are touched: an array grown in the loop
+    # would have numba count its references at every step, six times the walk's own cost)
+    source = np.empty(t1 - t0, np.int64)
     n_near = 0
     n_kept = 0
-    for t in range(m):
-        a, b, c = f[t, 0], f[t, 1], f[t, 2]
+    for t in range(t0, t1):
+        # (unsigned indices: numba then skips the wrap-around test of negative ones at every access)
+        a, b, c = np.uint64(f[t, 0]), np.uint64(f[t, 1]), np.uint64(f[t, 2])
         if drop[t]:
             if not near[a]:
                 used[a] = False
@@ -193,12 +222,19 @@ def _collapse_near(p, f, drop, new, n, cos_move, into, start):
             continue
         n_kept += 1
         if near[a] or near[b] or near[c]:
-            if n_near == source.shape[0]:
-                grown = np.empty(2 * n_near, np.int64)
-                grown[:n_near] = source
-                source = grown
             source[n_near] = t
             n_near += 1
+    return source[:n_near].copy(), n_kept
+
+
+@numba.njit(cache=True, nogil=True)
+def _collapse_local(p, f, source, new, n, near, cos_move, into, start, used, renumber):
+    """The collapses of `finish` on the triangles near the fans (gathered: `local`, the rows `source` of
+    `f` then the new ones), into `into` (p,) and with `start` (p + 1,) as work; returns them, the local
+    triangles dropped, the count of collapses and of local triangles dropped.  `used` is cleared for
+    the vertices taken, and `start` left holding each point's index among those written."""
+    n_p = p.shape[0]
+    n_near = source.shape[0]
     k = n_near + new.shape[0]
     faces = np.empty((k, 3), np.int64)
     for r in range(n_near):
@@ -213,53 +249,59 @@ def _collapse_near(p, f, drop, new, n, cos_move, into, start):
     for v in range(n_p):
         if into[v] != v:
             used[v] = False
-    n_out = n_kept + new.shape[0]
+    n_dropped = 0
     for s in range(k):
-        n_out -= dropped[s]
-    return faces, source, n_near, dropped, used, c, n_out
+        n_dropped += dropped[s]
+    # (`start` is free once the collapses are made)
+    q = 0
+    for v in range(n_p):
+        start[v] = q if renumber else v
+        q += used[v]
+    return faces, dropped, c, n_dropped
 
 
 @numba.njit(cache=True, nogil=True)
-def _write(p, f, drop, faces, source, n_near, dropped, used, renumber, into, start, out, pout):
-    """The triangles of `finish` into `out` (which may be `f` itself: row ``r`` is written once rows
-    ``<= r`` of `f` are read) and the points used into `pout`; returns the count of points used."""
+def _write(p, f, drop, faces, source, n_near, dropped, used, renumber, into, index, out, pout, step, t0, t1, near):
+    """A walk of `finish`: `_scan` of triangles `t0:t1` (step 0: returns its triangles and count), the
+    triangles into `out` (step 1; `out` may be `f` itself: row ``r`` is written once rows ``<= r`` of `f`
+    are read) or the points used into `pout` (step 2; `index`: each point's new index; returns their
+    count with an empty array)."""
+    if step == 0:
+        return _scan(f, t0, t1, drop, near, used)
     m = f.shape[0]
     n_p = p.shape[0]
     k = faces.shape[0]
-    index = start      # (free once the collapses are made)
-    q = 0
-    for v in range(n_p):
-        index[v] = q if renumber else v
-        q += used[v]
-    r = 0
-    s = 0     # next local triangle that came from `f`
-    for t in range(m):
-        if drop[t]:
-            continue
-        if s < n_near and source[s] == t:
+    if step == 1:
+        r = 0
+        s = 0     # next local triangle that came from `f`
+        for t in range(m):
+            if drop[t]:
+                continue
+            if s < n_near and source[s] == t:
+                if not dropped[s]:
+                    for j in range(3):
+                        out[r, j] = index[into[faces[s, j]]]
+                    r += 1
+                s += 1
+            else:
+                a, b, c = np.uint64(f[t, 0]), np.uint64(f[t, 1]), np.uint64(f[t, 2])
+                out[r, 0] = index[a]
+                out[r, 1] = index[b]
+                out[r, 2] = index[c]
+                r += 1
+        for s in range(n_near, k):
             if not dropped[s]:
                 for j in range(3):
                     out[r, j] = index[into[faces[s, j]]]
                 r += 1
-            s += 1
-        else:
-            a, b, c = f[t, 0], f[t, 1], f[t, 2]
-            out[r, 0] = index[a]
-            out[r, 1] = index[b]
-            out[r, 2] = index[c]
-            r += 1
-    for s in range(n_near, k):
-        if not dropped[s]:
-            for j in range(3):
-                out[r, j] = index[into[faces[s, j]]]
-            r += 1
     # the points used, in order (all of them when not renumbering)
     q = 0
-    for v in range(n_p):
-        if used[v] or not renumber:
-            pout[q, 0] = p[v, 0]; pout[q, 1] = p[v, 1]; pout[q, 2] = p[v, 2]
-            q += 1
-    return q
+    if step == 2:
+        for v in range(n_p):
+            if used[v] or not renumber:
+                pout[q, 0] = p[v, 0]; pout[q, 1] = p[v, 1]; pout[q, 2] = p[v, 2]
+                q += 1
+    return source[:0].copy(), q
 
 
 @numba.njit(cache=True, nogil=True)

@@ -82,24 +82,25 @@ def _eigh3(a, w, u):
 
 
 @numba.njit(cache=True, nogil=True)
-def _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells):
+def _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells, c0, c1, x, rank):
     """Per cell: the QEF minimiser around the mass point of its vertices, with its rank.
 
     ``sum (n_i . (x - p_i))^2`` over the cell's (vertex, exact normal) pairs is
     minimised relative to the mass point by the pseudo-inverse of ``A^T A``
     whose eigenvalues under ``cutoff`` times the largest are dropped (what is
-    left is the rank: 2 an edge, 3 a corner).  Only the `open_cells` are
-    solved; the others are given rank 0 and the point 0.
+    left is the rank: 2 an edge, 3 a corner).  Only the `open_cells` of cells
+    `c0:c1` are solved, into their rows of `x` and `rank`; the others are
+    given rank 0 and the point 0.
     """
-    n_cells = starts.shape[0] - 1
     mass = np.empty(3)
-    x = np.zeros((n_cells, 3))
-    rank = np.zeros(n_cells, np.int64)
     a = np.empty((3, 3))
     u = np.empty((3, 3))
     w = np.empty(3)
     b = np.empty(3)
-    for c in range(n_cells):
+    for c in range(c0, c1):
+        for j in range(3):
+            x[c, j] = 0.0
+        rank[c] = 0
         if not open_cells[c]:
             continue
         s0, s1 = starts[c], starts[c + 1]
@@ -131,7 +132,6 @@ def _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells):
                 ub = (u[0, k] * b[0] + u[1, k] * b[1] + u[2, k] * b[2]) / w[k]
                 for j in range(3):
                     x[c, j] += u[j, k] * ub
-    return x, rank
 
 
 @numba.njit(cache=True, nogil=True)
@@ -178,7 +178,7 @@ def _cell_labels(pinv, decider, starts):
 
 
 @numba.njit(cache=True, nogil=True)
-def _cell_borders(faces, tri, tcell, feature, n):
+def _cell_borders(faces, tri, tcell, feature, n, t0, t1, disc):
     """Border edges of every feature cell's patch, and whether the patch is one disc.
 
     The triangles ``faces[tri]`` come grouped by cell (`tcell` sorted).  An edge met once
@@ -187,10 +187,10 @@ def _cell_borders(faces, tri, tcell, feature, n):
     (one simple loop), at least three.  The border edges of the disc cells
     are returned in the cell's order, then by undirected key ``min * n + max``
     (the order of a lexsort by cell and key), as directed in their triangle.
+    Only the triangles `t0:t1` (whole cells) are read, and the rows of
+    `disc` of their cells written.
     """
-    n_cells = feature.shape[0]
-    disc = np.zeros(n_cells, np.bool_)
-    m = tri.shape[0]
+    m = t1 - t0
     b0 = np.empty(3 * m, np.int64)
     b1 = np.empty(3 * m, np.int64)
     bc = np.empty(3 * m, np.int64)
@@ -200,13 +200,14 @@ def _cell_borders(faces, tri, tcell, feature, n):
     once = np.empty(48, np.bool_)
     vs = np.empty(48, np.int64)
     r = 0
-    t = 0
-    while t < m:
+    t = t0
+    while t < t1:
         c = tcell[t]
         u = t
-        while u < m and tcell[u] == c:
+        while u < t1 and tcell[u] == c:
             u += 1
         k = u - t
+        disc[c] = False
         if feature[c]:
             if 3 * k > e0.shape[0]:
                 e0 = np.empty(6 * k, np.int64); e1 = np.empty(6 * k, np.int64); ek = np.empty(6 * k, np.int64)
@@ -270,7 +271,7 @@ def _cell_borders(faces, tri, tcell, feature, n):
                     b1[j] = e1[i]
                     bc[j] = c
         t = u
-    return b0[:r].copy(), b1[:r].copy(), bc[:r].copy(), disc
+    return b0[:r].copy(), b1[:r].copy(), bc[:r].copy()
 
 
 @numba.njit(cache=True, nogil=True)
@@ -344,14 +345,33 @@ def _cell_faces(pinv, decider, starts, smooth, need):
 
 
 @numba.njit(cache=True, nogil=True)
-def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, open_cells, cutoff):
-    """`_qef` of the open cells and the `_cell_borders` of those of rank 2 or more, in one call."""
-    x, rank = _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells)
-    edge = np.empty(rank.shape[0], np.bool_)
-    for c in range(rank.shape[0]):
+def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, open_cells, cutoff, c0, c1, x, rank, disc,
+                 edge):
+    """`_qef` of the open cells of `c0:c1` and the `_cell_borders` of those of rank 2 or more, in one call:
+    their rows of `x`, `rank`, `disc` and `edge` (work) written, their border edges returned.  The cells
+    are independent: chunks of cells give the one call's result (`feature_threads`)."""
+    _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells, c0, c1, x, rank)
+    for c in range(c0, c1):
         edge[c] = rank[c] >= 2
-    b0, b1, bc, disc = _cell_borders(faces, tri, tcell, edge, pts.shape[0])
-    return x, rank, b0, b1, bc, disc
+    # the cells' triangles: `tcell` is sorted (a bisection for the first of `c0` and of `c1`)
+    lo, hi = 0, tcell.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if tcell[mid] < c0:
+            lo = mid + 1
+        else:
+            hi = mid
+    t0 = lo
+    hi = tcell.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if tcell[mid] < c1:
+            lo = mid + 1
+        else:
+            hi = mid
+    for c in range(c0, c1):
+        disc[c] = False
+    return _cell_borders(faces, tri, tcell, edge, pts.shape[0], t0, lo, disc)
 
 
 @numba.njit(cache=True, nogil=True)

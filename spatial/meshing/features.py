@@ -87,13 +87,17 @@ SIGGRAPH 2002, doi:10.1145/566654.566586.
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
-from .feature_collapse import finish
+from .feature_collapse import _room, finish
+from .feature_threads import on_threads, spans
 from .feature_cells import cells as _cells, nodes as _nodes
 from .feature_kernels import _cell_faces, _facing_kernel, _fan_rows, _flip_fans, _newton_step, _solve_cells
 
-__all__ = ["sharpen", "sharp_polydata", "sharp_polydata_lent", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF"]
+__all__ = ["sharpen", "sharp_polydata", "sharp_polydata_lent", "COS_CANDIDATE", "COS_SHARP", "EIGEN_CUTOFF",
+           "FACE_ROOM"]
 
 #: A triangle whose normal makes ``cos < COS_CANDIDATE`` with one of its vertex normals marks its cell.
 COS_CANDIDATE = 0.97
@@ -115,6 +119,9 @@ MIN_FACING = 0.3
 ROUNDS = 6
 #: The fans' vertices go in the rows after the points where they are at most one per ROOM points.
 ROOM = 16
+#: The mesher leaves this fraction of rows free behind its triangles: the pass's few extra ones are then
+#: written in place (the fans' two extra triangles each are mostly collapsed away: 0.09 % more at N=512).
+FACE_ROOM = 1 / 64
 
 
 def _unit(v):
@@ -129,6 +136,24 @@ def _cross(u, v):
     out[:, 1] = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
     out[:, 2] = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
     return out
+
+
+#: Rows from which the facets' numpy walks (`implicit.facets`: row by row) run in two halves on two threads.
+ROWS_ON_THREADS = 8192
+
+
+def point_room(n):
+    """Rows the pass wants behind `n` points for the fans' vertices (at most one per `ROOM` points)."""
+    return n // ROOM + 256
+
+
+def _by_rows(walk, n):
+    """``walk(0, n)``, an array computed row by row, made as two halves on two threads (`feature_threads`)
+    when there are rows enough: numpy and the compiled leaves release the interpreter's lock for the most
+    part, and each row's result is the one of the whole walk."""
+    if n < ROWS_ON_THREADS:
+        return walk(0, n)
+    return np.concatenate(on_threads([partial(walk, a, b) for a, b in spans(n)]))
 
 
 def _runs(sorted_keys):
@@ -210,8 +235,18 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # (the vertex normals' rows, once read, take the points of the fans: `room` has rows for the fans'
     # vertices beyond them, which are never touched unless used)
     # (`index` and the runs' starts, once read, are the collapses' work arrays: pages already touched)
-    room, spare = np.empty((n + n // ROOM + 256, 3)), np.empty(n + n // ROOM + 256, np.int32)
-    vn, index = room[:n], spare[:n]
+    # (lent points with room behind them, `point_room`, are the fans' points already: no copy)
+    # (then the vertex normals have an array of their own; else they take the rows of `room` until the points
+    # are copied there)
+    room = _room(pts, n + point_room(n)) if overwrite else None
+    in_room = room is not None
+    if in_room:
+        vn = np.empty((n, 3))
+    else:
+        room = np.empty((n + point_room(n), 3))
+        vn = room[:n]
+    spare = np.empty(n + point_room(n), np.int32)
+    index = spare[:n]
     ix = np.int32 if m < 2 ** 31 else np.int64
     work = np.empty(m + 1, ix), np.empty(m, np.int64), np.empty(m, np.bool_)
     cand, lo, s, tri, tcell, pvert, starts, verts, pinv = _cells(pts, f, origin, float(h), COS_CANDIDATE,
@@ -228,13 +263,14 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # them: a sphere's, a plane's chamfer-free turns); the exact normal of the face deciding the field only
     # at the vertices of the others (closed forms; forward steps of 1e-6 h where none)
     at_verts = pts[verts]
-    decider = np.asarray(ff.decide(at_verts)[1], dtype=np.int64)
+    decider = _by_rows(lambda a, b: np.asarray(ff.decide(at_verts[a:b])[1], dtype=np.int64), verts.shape[0])
     need = np.zeros(verts.shape[0], np.bool_)
     labels, n_faces, open_cells = _cell_faces(pinv, decider, starts, ff.smooth, need)
     rows = np.flatnonzero(need)
     normal = np.zeros((verts.shape[0], 3))
     if rows.shape[0]:
-        g = _unit(ff.gradients_of(at_verts[rows], decider[rows], 1e-6 * h))
+        g = _unit(_by_rows(lambda a, b: ff.gradients_of(at_verts[rows[a:b]], decider[rows[a:b]], 1e-6 * h),
+                           rows.shape[0]))
         g *= np.where(np.einsum("ij,ij->i", g, vn[rows]) < 0, -1.0, 1.0)[:, None]
         normal[rows] = g
         del g
@@ -244,8 +280,14 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     # -- 3. QEF per open cell ----------------------------------------------------------------
     # (the border of each cell's patch, for the cells of rank 2 or more; the faces in each cell, most
     # frequent first, are the labels and the surfaces to solve on)
-    x, rank, b0, b1, bc, disc = _solve_cells(pts, f, tri, tcell, pvert, normal, pinv, starts, open_cells,
-                                             EIGEN_CUTOFF)
+    # (the cells in two chunks on two threads: each cell is solved alone, the border edges put together in
+    # the cells' order)
+    x, rank = np.empty((n_cells, 3)), np.empty(n_cells, np.int64)
+    disc, edge = np.empty(n_cells, np.bool_), np.empty(n_cells, np.bool_)
+    solved = on_threads([partial(_solve_cells, pts, f, tri, tcell, pvert, normal, pinv, starts, open_cells,
+                                 EIGEN_CUTOFF, c0, c1, x, rank, disc, edge) for c0, c1 in spans(n_cells)])
+    b0, b1, bc = (np.concatenate([part[j] for part in solved]) for j in range(3))
+    del solved, edge
     cell_lo = origin + (np.stack([cand // (s * s), (cand // s) % s, cand % s], axis=1) + lo) * h
     # (a cell on one smooth face, not open, holds no edge however much the face turns across it at a coarse
     # voxel, where its QEF would read as two planes: it was given rank 0)
@@ -258,7 +300,8 @@ def _sharpen(solid, lent, origin, h, overwrite=False):
     feature &= disc           # cells whose patch is not one disc are left alone
     # (the rounds only take cells away: the first round's fans are the most there are)
     if feature.any() and room.shape[0] >= n + int(feature.sum()):
-        room[:n] = pts
+        if not in_room:
+            room[:n] = pts
     else:
         room = None
     for _ in range(ROUNDS):
@@ -357,6 +400,16 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
     rows = np.flatnonzero(feature & (n_faces == rank) & (rank <= 3))
     if rows.shape[0] == 0:
         return x
+    # (each row alone: in two halves on two threads when there are many)
+    q = _by_rows(lambda a, b: _onto_rows(ff, x, labels, rank, cell_lo, h, rows[a:b]), rows.shape[0])
+    inside = ~np.isnan(q[:, 0])
+    x = x.copy()
+    x[rows[inside]] = q[inside]
+    return x
+
+
+def _onto_rows(ff, x, labels, rank, cell_lo, h, rows):
+    """`_onto_faces` of the cells `rows`: their points, NaN where a point keeps its QEF position."""
     k = 3
     sets = labels[rows]
     used = np.arange(k)[None, :] < rank[rows][:, None]
@@ -391,9 +444,8 @@ def _onto_faces(ff, x, labels, rank, n_faces, feature, cell_lo, h):
             q[miss] = _nearest_on_line(q[miss], t[~hit], lo_c[miss], hi_c[miss], h)
     lo = cell_lo[rows] - 0.5 * h
     inside = np.all((q >= lo) & (q <= lo + 2.0 * h), axis=1) & np.all(np.isfinite(q), axis=1)
-    x = x.copy()
-    x[rows[inside]] = q[inside]
-    return x
+    q[~inside] = np.nan
+    return q
 
 
 def _nearest_on_line(q, t, lo, hi, h, steps=40):
