@@ -112,6 +112,48 @@ def ties(values, limit):
     return out
 
 
+@numba.njit(cache=True, nogil=True)
+def tie_probes(values, pts, lo, hi, limit, eps, offsets):
+    """The first half of `arrays._settle_ties` in one pass: the ties (``|v| <= limit``) on or beyond the
+    bounds' faces (``pts <= lo`` or ``pts >= hi`` on an axis) set to `eps` in place; returns the other
+    ties' indices (increasing) and their probes, ``pts[tie][:, None, :] + offsets`` as ``(6 k, 3)`` rows."""
+    n = 0
+    for i in range(values.shape[0]):
+        if abs(values[i]) <= limit:
+            face = False
+            for j in range(3):
+                if pts[i, j] <= lo[j] or pts[i, j] >= hi[j]:
+                    face = True
+            if face:
+                values[i] = eps
+            else:
+                n += 1
+    tie = np.empty(n, np.int64)
+    probe = np.empty((6 * n, 3), np.float64)
+    k = 0
+    for i in range(values.shape[0]):
+        if abs(values[i]) <= limit:
+            tie[k] = i
+            for d in range(6):
+                for j in range(3):
+                    probe[6 * k + d, j] = pts[i, j] + offsets[d, j]
+            k += 1
+    return tie, probe
+
+
+@numba.njit(cache=True, nogil=True)
+def settle_probed(values, tie, near, limit, eps):
+    """The second half of `arrays._settle_ties`: a tie is outside (`eps`) when one of its six probes
+    `near` is above `limit` or NaN, else inside (``-eps``), in place."""
+    for k in range(tie.shape[0]):
+        outside = False
+        for d in range(6):
+            v = near[6 * k + d]
+            if v > limit or v != v:
+                outside = True
+        values[tie[k]] = eps if outside else -eps
+
+
 @numba.njit(cache=True, nogil=True, inline="always")
 def _free_and_tied(f0, f1, i, refine, certify, floor, least, split):
     # `refine._certified`, negated: float32 throughout, as numpy computes it there; bitwise `&` and
