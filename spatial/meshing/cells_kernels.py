@@ -54,14 +54,30 @@ def min_max_rows(rows):
 @numba.njit(cache=True, nogil=True)
 def order_by_key(x, div, lo, n):
     """Rows in order of their key ``x // div - lo`` (``0 .. n - 1``; a stable counting sort, the order
-    of ``np.argsort(keys, kind="stable")``) and where each key starts in that order, ``(n + 1,)``."""
+    of ``np.argsort(keys, kind="stable")``) and where each key starts in that order, ``(n + 1,)``.
+    A `div` that is a power of two (the slabs' 16 cells, the planes' 1) is an arithmetic shift: the
+    same floor division, without a 64-bit divide per row and pass."""
     start = np.zeros(n + 1, np.int64)
+    order = np.empty(x.shape[0], np.int64)
+    if div > 0 and div & (div - 1) == 0:
+        s = np.int64(0)
+        while (np.int64(1) << s) < div:
+            s += 1
+        for i in range(x.shape[0]):
+            start[(np.int64(x[i]) >> s) - lo + 1] += 1
+        for k in range(n):
+            start[k + 1] += start[k]
+        at = start[:n].copy()
+        for i in range(x.shape[0]):
+            k = (np.int64(x[i]) >> s) - lo
+            order[at[k]] = i
+            at[k] += 1
+        return order, start
     for i in range(x.shape[0]):
         start[np.int64(x[i]) // div - lo + 1] += 1
     for k in range(n):
         start[k + 1] += start[k]
     at = start[:n].copy()
-    order = np.empty(x.shape[0], np.int64)
     for i in range(x.shape[0]):
         k = np.int64(x[i]) // div - lo
         order[at[k]] = i
