@@ -117,21 +117,21 @@ def _settle_ties(solid, pts, values, h):
     lattice's axes, so the same tie gets the same answer in every block.
     Ties on the faces of the solid's bounds are outside without probes.
     """
-    tie = np.flatnonzero(np.abs(values) <= ZERO_TIE * h)
-    if tie.size == 0:
-        return 0
-    # a tie on (or beyond) the faces of the solid's bounds is no interior point: outside, unprobed
-    # (the common case: the lattice starts one voxel below the bounds, so a box's faces are ties)
+    # (two compiled passes around the probes' evaluation: the thread preparing the next slab keeps
+    # no numpy temporaries and lets the interpreter's lock go)
+    from .cells_kernels import settle_probed, tie_probes
+
+    work = values if values.dtype == np.float64 and values.flags.c_contiguous else \
+        np.ascontiguousarray(values, dtype=np.float64)
     lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
-    near_face = ((pts[tie] <= lo + ZERO_TIE * h) | (pts[tie] >= hi - ZERO_TIE * h)).any(axis=1)
-    values[tie[near_face]] = ZERO_NUDGE * h
-    tie = tie[~near_face]
-    if tie.size == 0:
-        return 0
-    probe = (pts[tie][:, None, :] + (ZERO_NUDGE * h) * _SIX).reshape(-1, 3)
-    near = _evaluate(solid, probe).reshape(-1, 6)
-    outside = (near > ZERO_TIE * h).any(axis=1) | np.isnan(near).any(axis=1)
-    values[tie] = np.where(outside, ZERO_NUDGE * h, -ZERO_NUDGE * h)
+    limit, eps = ZERO_TIE * h, ZERO_NUDGE * h
+    tie, probe = tie_probes(work, np.ascontiguousarray(pts, dtype=np.float64), lo + ZERO_TIE * h,
+                            hi - ZERO_TIE * h, limit, eps, (ZERO_NUDGE * h) * _SIX)
+    if tie.size:
+        near = _evaluate(solid, probe).reshape(-1)
+        settle_probed(work, tie, np.ascontiguousarray(near, dtype=np.float64), limit, eps)
+    if work is not values:
+        values[...] = work
     return int(probe.shape[0])
 
 

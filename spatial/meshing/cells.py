@@ -155,19 +155,8 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     slabs = (slabs + first_slab).astype(np.int64)
     n_cells = int(cells.shape[0])
 
-    # -- each slab's share of the classification, cut out once and dropped as its slab is done --
-    # (the whole-lattice arrays would otherwise stay alive under the growing parts: at N=1024 some
-    # 150 MB of the peak)
-    pieces = []
-    for s0, s1 in spans:
-        sc = np.empty((s1 - s0, 3), np.int64)
-        take_rows(cells, order, s0, s1, sc)
-        given = None
-        if centre_values is not None:
-            given = np.empty(s1 - s0, np.float32)
-            take_nudged(centre_values, order, s0, s1, eps, given)
-        pieces.append([sc, given, None, None, None])
-    del cells, centre_values, order, starts
+    # -- the rings sorted along x once (the nodes' ties settled in that order) --------------
+    sorted_rings = [None, None, None]
     for col, (ring, lo, hi) in enumerate((
             (rings[0], slabs * per - 1, (slabs + 1) * per + 1),
             (rings[1], (slabs * per - 1) // 2, ((slabs + 1) * per) // 2 + 1),
@@ -178,7 +167,7 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
         idx, val, itype = ring
         rings[col - 2] = None
         x_lo, x_hi = min_max(idx[:, 0]) if idx.shape[0] else (0, -1)
-        order, starts = order_by_key(idx[:, 0], 1, x_lo, x_hi - x_lo + 1)
+        r_order, r_starts = order_by_key(idx[:, 0], 1, x_lo, x_hi - x_lo + 1)
         if col == 4:
             # the nodes' ties settled in order along x (the values of a copy)
             tie = ties(val, ZERO_TIE * h)
@@ -191,44 +180,38 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
                 del settled
             del tie
         # the rows of x in [lo, hi) of each slab
-        first = starts[np.clip(lo - x_lo, 0, starts.shape[0] - 1)]
-        last = starts[np.clip(hi - x_lo, 0, starts.shape[0] - 1)]
-        for k in range(len(pieces)):
-            a, b = int(first[k]), int(last[k])
-            rows = np.empty((max(b - a, 0), 3), itype)
-            if col == 4:
-                vals = np.empty(rows.shape[0], np.float32)
-                take_nudged(val, order, a, a + rows.shape[0], eps, vals)
-            else:
-                vals = np.empty(rows.shape[0], val.dtype)
-                take_entries(val, order, a, a + rows.shape[0], vals)
-            take_rows(idx, order, a, a + rows.shape[0], rows)
-            pieces[k][col] = (rows, vals)
-        del ring, idx, val, order, starts, first, last
+        first = r_starts[np.clip(lo - x_lo, 0, r_starts.shape[0] - 1)]
+        last = r_starts[np.clip(hi - x_lo, 0, r_starts.shape[0] - 1)]
+        sorted_rings[col - 2] = (idx, val, itype, r_order, first, last)
+        del ring, idx, val, r_order, r_starts
     del rings
-    _release_free_memory()
+    # -- each slab's share of the classification, cut out once and dropped as its slab is done --
+    # (the whole-lattice arrays would otherwise stay alive under the growing parts: at N=1024 some
+    # 150 MB of the peak).  With the slabs on two threads, the first slab's share is cut here and
+    # the others on a thread of their own while the first slab is sampled.
+    overlap = slab_threads == 2 and len(spans) >= OVERLAP_MIN_SLABS
+    shares = _Shares([cells, centre_values, order, sorted_rings], spans, eps, threaded=overlap)
+    del cells, centre_values, order, starts, sorted_rings
 
     parts = []
     n_blocks = 0
-    bar = progress_bar(len(pieces), "mesh", progress, unit="slab")
+    bar = progress_bar(len(spans), "mesh", progress, unit="slab")
 
     def tasks():
-        for k in range(len(pieces)):
-            sc, given, ring, ring_parents, extra = pieces[k]
-            pieces[k] = None  # the slab's job holds what it needs
+        for k in range(len(spans)):
+            sc, given, ring, ring_parents, extra = shares.take(k)  # the slab's job holds what it needs
             job = _SlabJob(solid, origin, h, c, block, int(slabs[k]), stride, lip if usable else None)
             yield job, (sc, given, (ring, ring_parents), centre_infer, extra)
             del sc, given, ring, ring_parents, extra
 
     try:
-        overlap = slab_threads == 2 and len(pieces) >= OVERLAP_MIN_SLABS
         for nb, spent in run_slabs(tasks(), parts, overlap=overlap):
             n_blocks += nb
             evaluations += spent
             bar.update()
     finally:
         bar.close()
-    del pieces
+        shares.close()
     # (with room behind the triangles for the few the feature pass adds: written in place, no second array)
     data, faces = merge_blocks(parts, threads=slab_threads, spare=FACE_ROOM if features else 0.0)
     del parts
@@ -292,6 +275,87 @@ def mesh_cells(solid, origin, voxel_size, cells, *, cell_size=1, refine=True, pr
     out.field_data["blocks"] = np.array([n_blocks], dtype=np.int64)
     out.field_data["seconds"] = np.array([time.perf_counter() - t0])
     return out
+
+
+class _Shares:
+    """Each slab's share of the classification -- its cells (and their centre values, nudged to
+    float32) and the rows of the three rings -- cut out of the whole-lattice arrays `whole` (``[cells,
+    centre values or None, the cells' order by slab, the sorted rings]``) for the slab `take` asks.
+
+    With `threaded`, the first share is cut at once and the others on a thread of their own (the
+    first slab is then being sampled, the meshing thread waiting for it); else all are cut at once.
+    Either way the whole-lattice arrays are let go, and the freed heap handed back, once every share
+    is cut."""
+
+    def __init__(self, whole, spans, eps, threaded):
+        import threading
+
+        self._whole, self._spans, self._eps = whole, spans, eps
+        n = len(spans)
+        self._pieces = [None] * n
+        self._done = [threading.Event() for _ in range(n)]
+        self._failed = []
+        self._thread = None
+        if threaded and n > 1:
+            self._cut(0)
+            self._thread = threading.Thread(target=self._cut_all, args=(1,), name="implicad-slab-shares",
+                                            daemon=True)
+            self._thread.start()
+        else:
+            self._cut_all(0)
+
+    def _cut(self, k):
+        cells, centre_values, order, rings = self._whole
+        s0, s1 = self._spans[k]
+        sc = np.empty((s1 - s0, 3), np.int64)
+        take_rows(cells, order, s0, s1, sc)
+        given = None
+        if centre_values is not None:
+            given = np.empty(s1 - s0, np.float32)
+            take_nudged(centre_values, order, s0, s1, self._eps, given)
+        piece = [sc, given, None, None, None]
+        for col, ring in enumerate(rings, start=2):
+            if ring is None:
+                continue
+            idx, val, itype, r_order, first, last = ring
+            a, b = int(first[k]), int(last[k])
+            rows = np.empty((max(b - a, 0), 3), itype)
+            if col == 4:
+                vals = np.empty(rows.shape[0], np.float32)
+                take_nudged(val, r_order, a, a + rows.shape[0], self._eps, vals)
+            else:
+                vals = np.empty(rows.shape[0], val.dtype)
+                take_entries(val, r_order, a, a + rows.shape[0], vals)
+            take_rows(idx, r_order, a, a + rows.shape[0], rows)
+            piece[col] = (rows, vals)
+        self._pieces[k] = piece
+        self._done[k].set()
+
+    def _cut_all(self, first):
+        try:
+            for k in range(first, len(self._spans)):
+                self._cut(k)
+        except BaseException as exc:  # raised where the share is taken
+            self._failed.append(exc)
+        finally:
+            self._whole = None
+            for done in self._done:
+                done.set()
+            _release_free_memory()
+
+    def take(self, k):
+        """Slab `k`'s share ``[cells, centre values or None, ring, parents' ring, nodes]``, handed over."""
+        self._done[k].wait()
+        piece, self._pieces[k] = self._pieces[k], None
+        if piece is None:
+            raise self._failed[0] if self._failed else RuntimeError(f"mesh: slab {k}'s share taken twice")
+        return piece
+
+    def close(self):
+        """Wait for the thread cutting the shares (when the slabs stopped early, their shares go)."""
+        if self._thread is not None:
+            self._thread.join()
+        self._pieces = [None] * len(self._pieces)
 
 
 def _vertex_stage(f0, f1, axis, args, threads):

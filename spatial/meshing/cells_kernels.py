@@ -54,14 +54,30 @@ def min_max_rows(rows):
 @numba.njit(cache=True, nogil=True)
 def order_by_key(x, div, lo, n):
     """Rows in order of their key ``x // div - lo`` (``0 .. n - 1``; a stable counting sort, the order
-    of ``np.argsort(keys, kind="stable")``) and where each key starts in that order, ``(n + 1,)``."""
+    of ``np.argsort(keys, kind="stable")``) and where each key starts in that order, ``(n + 1,)``.
+    A `div` that is a power of two (the slabs' 16 cells, the planes' 1) is an arithmetic shift: the
+    same floor division, without a 64-bit divide per row and pass."""
     start = np.zeros(n + 1, np.int64)
+    order = np.empty(x.shape[0], np.int64)
+    if div > 0 and div & (div - 1) == 0:
+        s = np.int64(0)
+        while (np.int64(1) << s) < div:
+            s += 1
+        for i in range(x.shape[0]):
+            start[(np.int64(x[i]) >> s) - lo + 1] += 1
+        for k in range(n):
+            start[k + 1] += start[k]
+        at = start[:n].copy()
+        for i in range(x.shape[0]):
+            k = (np.int64(x[i]) >> s) - lo
+            order[at[k]] = i
+            at[k] += 1
+        return order, start
     for i in range(x.shape[0]):
         start[np.int64(x[i]) // div - lo + 1] += 1
     for k in range(n):
         start[k + 1] += start[k]
     at = start[:n].copy()
-    order = np.empty(x.shape[0], np.int64)
     for i in range(x.shape[0]):
         k = np.int64(x[i]) // div - lo
         order[at[k]] = i
@@ -110,6 +126,48 @@ def ties(values, limit):
             out[n] = i
             n += 1
     return out
+
+
+@numba.njit(cache=True, nogil=True)
+def tie_probes(values, pts, lo, hi, limit, eps, offsets):
+    """The first half of `arrays._settle_ties` in one pass: the ties (``|v| <= limit``) on or beyond the
+    bounds' faces (``pts <= lo`` or ``pts >= hi`` on an axis) set to `eps` in place; returns the other
+    ties' indices (increasing) and their probes, ``pts[tie][:, None, :] + offsets`` as ``(6 k, 3)`` rows."""
+    n = 0
+    for i in range(values.shape[0]):
+        if abs(values[i]) <= limit:
+            face = False
+            for j in range(3):
+                if pts[i, j] <= lo[j] or pts[i, j] >= hi[j]:
+                    face = True
+            if face:
+                values[i] = eps
+            else:
+                n += 1
+    tie = np.empty(n, np.int64)
+    probe = np.empty((6 * n, 3), np.float64)
+    k = 0
+    for i in range(values.shape[0]):
+        if abs(values[i]) <= limit:
+            tie[k] = i
+            for d in range(6):
+                for j in range(3):
+                    probe[6 * k + d, j] = pts[i, j] + offsets[d, j]
+            k += 1
+    return tie, probe
+
+
+@numba.njit(cache=True, nogil=True)
+def settle_probed(values, tie, near, limit, eps):
+    """The second half of `arrays._settle_ties`: a tie is outside (`eps`) when one of its six probes
+    `near` is above `limit` or NaN, else inside (``-eps``), in place."""
+    for k in range(tie.shape[0]):
+        outside = False
+        for d in range(6):
+            v = near[6 * k + d]
+            if v > limit or v != v:
+                outside = True
+        values[tie[k]] = eps if outside else -eps
 
 
 @numba.njit(cache=True, nogil=True, inline="always")

@@ -157,7 +157,10 @@ class _SlabJob:
             probes = 0
             if not clean:
                 probes = _settle_ties(self.solid, pts, vals, h)
-                out = _nudge(vals, h).astype(np.float32)
+                # (no tie is left: the same compiled pass)
+                out, clean = nudged_float32(vals, ZERO_NUDGE * h, ZERO_TIE * h)
+                if not clean:
+                    out = _nudge(vals, h).astype(np.float32)
             return out[:k], out[k:], int(pts.shape[0]) + probes
 
         # -- pass 1: nodes of unknown sign ---------------------------------------------------
