@@ -353,25 +353,12 @@ def _solve_cells(pts, faces, tri, tcell, pvert, normal, pinv, starts, open_cells
     _qef(pts, pvert, normal, pinv, starts, cutoff, open_cells, c0, c1, x, rank)
     for c in range(c0, c1):
         edge[c] = rank[c] >= 2
-    # the cells' triangles: `tcell` is sorted (a bisection for the first of `c0` and of `c1`)
-    lo, hi = 0, tcell.shape[0]
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if tcell[mid] < c0:
-            lo = mid + 1
-        else:
-            hi = mid
-    t0 = lo
-    hi = tcell.shape[0]
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if tcell[mid] < c1:
-            lo = mid + 1
-        else:
-            hi = mid
+    # the cells' triangles: `tcell` is sorted, so those of `c0:c1` are one run of it
+    t0 = np.searchsorted(tcell, c0)
+    t1 = np.searchsorted(tcell, c1)
     for c in range(c0, c1):
         disc[c] = False
-    return _cell_borders(faces, tri, tcell, edge, pts.shape[0], t0, lo, disc)
+    return _cell_borders(faces, tri, tcell, edge, pts.shape[0], t0, t1, disc)
 
 
 @numba.njit(cache=True, nogil=True)
