@@ -27,12 +27,17 @@ import threading
 
 __all__ = ["exit_now"]
 
+_BUFFERED_FILES = (io.BufferedWriter, io.BufferedRandom, io.TextIOWrapper)
+
 
 def _flush_open_files() -> None:
     """Flush every buffered file object still open (their data would otherwise be lost with the process)."""
     gc.unfreeze()  # objects an exit handler froze (`spatial.files.shutdown`) are listed only once unfrozen
     for obj in gc.get_objects():
-        if isinstance(obj, (io.BufferedWriter, io.BufferedRandom, io.TextIOWrapper)):
+        # `type(obj)`, not `isinstance`: isinstance also reads each object's ``__class__``, and on a module
+        # bound lazily (yaml's, importlib.metadata's) that attribute runs the module's code, 80 ms of
+        # imports at every exit for files that cannot be among them
+        if issubclass(type(obj), _BUFFERED_FILES):
             try:
                 if not obj.closed:
                     obj.flush()

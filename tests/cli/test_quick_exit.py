@@ -90,3 +90,25 @@ def test_exit_handlers_run_once_when_one_of_them_starts_a_thread(tmp_path):
     proc = _console([], tmp_path, code=code)
     assert proc.returncode == 4
     assert (tmp_path / "handler.txt").read_text() == "ran\n"
+
+
+def test_the_flush_at_exit_leaves_modules_bound_lazily_unrun(tmp_path):
+    # `isinstance` reads an object's ``__class__``: on a lazily loaded module that read runs the module, so a
+    # flush that asked every object would import yaml and importlib.metadata at every exit (80 ms)
+    (tmp_path / "lazily_bound.py").write_text("open('ran.txt', 'w').write('ran')\n")
+    code = textwrap.dedent("""
+        import importlib.util, sys
+        from spatial.cli._quick_exit import exit_now
+        spec = importlib.util.find_spec("lazily_bound")
+        spec.loader = importlib.util.LazyLoader(spec.loader)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules["lazily_bound"] = module
+        spec.loader.exec_module(module)          # bound, not run
+        kept = open("kept.txt", "w"); kept.write("flushed")
+        exit_now(0)
+    """)
+    env_path = str(tmp_path)
+    proc = _console([], tmp_path, code=f"import sys; sys.path.insert(0, {env_path!r})\n" + code)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert (tmp_path / "kept.txt").read_text() == "flushed"
+    assert not (tmp_path / "ran.txt").exists()
